@@ -1,0 +1,138 @@
+#include "renderer/image/spectral_exr.h"
+
+#include <ImfChannelList.h>
+#include <ImfFrameBuffer.h>
+#include <ImfHeader.h>
+#include <ImfInputFile.h>
+#include <ImfOutputFile.h>
+#include <ImfStringAttribute.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <numeric>
+
+#include "renderer/core/error.h"
+#include "renderer/spectral/color.h"
+
+namespace ofl {
+
+std::string spectral_channel_name(double nm) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "S0.%.6fnm", nm);
+  std::string s = buf;
+  // The layout writes the decimal separator as a comma.
+  auto dot = s.find('.', 3);
+  if (dot != std::string::npos) s[dot] = ',';
+  return s;
+}
+
+bool parse_spectral_channel_name(const std::string& name, double* nm) {
+  if (name.size() < 6 || name.rfind("S0.", 0) != 0 || name.substr(name.size() - 2) != "nm") return false;
+  std::string num = name.substr(3, name.size() - 5);
+  std::replace(num.begin(), num.end(), ',', '.');
+  char* end = nullptr;
+  double v = std::strtod(num.c_str(), &end);
+  if (end == num.c_str() || *end != '\0' || !(v > 0)) return false;
+  *nm = v;
+  return true;
+}
+
+std::vector<float> spectral_to_linear_srgb(const SpectralImage& img, double white) {
+  ColorMatching m = cie1931_on_bands(img.band_lo(), img.band_hi());
+  std::vector<double> w(img.bands());
+  for (int b = 0; b < img.bands(); ++b) w[b] = img.band_hi()[b] - img.band_lo()[b];
+  double ywhite = 0;
+  for (int b = 0; b < img.bands(); ++b) ywhite += m.y[b] * w[b] * white;
+  double norm = ywhite > 0 ? 1.0 / ywhite : 1.0;
+  std::vector<float> rgb(static_cast<size_t>(img.width) * img.height * 3);
+  for (int y = 0; y < img.height; ++y)
+    for (int x = 0; x < img.width; ++x) {
+      const float* p = img.pixel(x, y);
+      std::array<double, 3> xyz{0, 0, 0};
+      for (int b = 0; b < img.bands(); ++b) {
+        xyz[0] += m.x[b] * w[b] * p[b];
+        xyz[1] += m.y[b] * w[b] * p[b];
+        xyz[2] += m.z[b] * w[b] * p[b];
+      }
+      for (auto& c : xyz) c *= norm;
+      auto lin = xyz_to_linear_srgb(xyz);
+      size_t o = (static_cast<size_t>(y) * img.width + x) * 3;
+      for (int c = 0; c < 3; ++c) rgb[o + c] = static_cast<float>(lin[c]);
+    }
+  return rgb;
+}
+
+void write_spectral_exr(const std::filesystem::path& file, const SpectralImage& img) {
+  Imf::Header header(img.width, img.height);
+  header.insert("spectralLayoutVersion", Imf::StringAttribute("1.0"));
+  header.insert("emissiveUnits", Imf::StringAttribute("W.m^-2.sr^-1"));
+  for (auto& [k, v] : img.attributes) header.insert(k, Imf::StringAttribute(v));
+  header.compression() = Imf::ZIP_COMPRESSION;
+
+  std::vector<float> rgb = spectral_to_linear_srgb(img, 1.0);
+  std::vector<std::string> names;
+  for (double nm : img.band_nm) names.push_back(spectral_channel_name(nm));
+  for (auto& n : names) header.channels().insert(n, Imf::Channel(Imf::FLOAT));
+  for (const char* c : {"R", "G", "B"}) header.channels().insert(c, Imf::Channel(Imf::FLOAT));
+
+  Imf::FrameBuffer fb;
+  size_t px = sizeof(float) * img.bands();
+  for (int b = 0; b < img.bands(); ++b)
+    fb.insert(names[b], Imf::Slice(Imf::FLOAT, (char*)(img.data.data() + b), px, px * img.width));
+  const char* rgbn[3] = {"R", "G", "B"};
+  for (int c = 0; c < 3; ++c)
+    fb.insert(rgbn[c], Imf::Slice(Imf::FLOAT, (char*)(rgb.data() + c), 3 * sizeof(float), 3 * sizeof(float) * img.width));
+  try {
+    std::filesystem::path tmp = file;
+    tmp += ".partial";
+    {
+      Imf::OutputFile out(tmp.string().c_str(), header);
+      out.setFrameBuffer(fb);
+      out.writePixels(img.height);
+    }
+    std::filesystem::rename(tmp, file);  // atomic: readers never see a half-written image
+  } catch (const std::exception& e) {
+    throw InputError(file.string(), "", std::string("cannot write EXR: ") + e.what());
+  }
+}
+
+SpectralImage read_spectral_exr(const std::filesystem::path& file) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(file, ec)) throw InputError(file.string(), "", "file not found");
+  SpectralImage img;
+  try {
+    Imf::InputFile in(file.string().c_str());
+    const Imf::Header& h = in.header();
+    auto dw = h.dataWindow();
+    img.width = dw.max.x - dw.min.x + 1;
+    img.height = dw.max.y - dw.min.y + 1;
+    std::vector<std::pair<double, std::string>> chans;
+    for (auto it = h.channels().begin(); it != h.channels().end(); ++it) {
+      double nm;
+      if (parse_spectral_channel_name(it.name(), &nm)) chans.push_back({nm, it.name()});
+    }
+    if (chans.empty())
+      throw InputError(file.string(), "channels", "no spectral channels (expected names like S0.550,000000nm)");
+    std::sort(chans.begin(), chans.end());
+    for (auto& c : chans) img.band_nm.push_back(c.first);
+    for (auto it = h.begin(); it != h.end(); ++it) {
+      if (auto* s = dynamic_cast<const Imf::StringAttribute*>(&it.attribute())) img.attributes[it.name()] = s->value();
+    }
+    img.data.assign(static_cast<size_t>(img.width) * img.height * img.bands(), 0.0f);
+    Imf::FrameBuffer fb;
+    size_t px = sizeof(float) * img.bands();
+    char* base = (char*)img.data.data() - (static_cast<ptrdiff_t>(dw.min.x) + static_cast<ptrdiff_t>(dw.min.y) * img.width) * px;
+    for (int b = 0; b < img.bands(); ++b)
+      fb.insert(chans[b].second, Imf::Slice(Imf::FLOAT, base + b * sizeof(float), px, px * img.width));
+    in.setFrameBuffer(fb);
+    in.readPixels(dw.min.y, dw.max.y);
+  } catch (const InputError&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw InputError(file.string(), "", std::string("cannot read EXR: ") + e.what());
+  }
+  return img;
+}
+
+}  // namespace ofl
