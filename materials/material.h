@@ -1,0 +1,41 @@
+// The material every surface has at render time: a Lambertian base described by an albedo
+// matrix A = diag(R) + sum_k c_k Phi_k * dlambda (reflectance plus fluorophores, optionally seen
+// through a blood layer), an optional wet dielectric coating on top (GGX + Fresnel), and an
+// optional Lambertian emission. The JSON types that build it (lambertian, fluorescent, coated,
+// tissue, teeth) each live in their own file in this folder; see material_parser.h.
+#pragma once
+#include <string>
+#include <vector>
+
+namespace ofl {
+
+// One fluorophore of a material: which EEM (index into Scene::eems), its concentration (the
+// photon albedo at the fluorophore's excitation peak for library entries) and an optional
+// grayscale texture that multiplies the concentration (index into Scene::textures).
+struct FluorophoreLayer {
+  int eem = -1;
+  double concentration = 0;
+  int texture = -1;
+  std::string name;
+};
+
+// Wet-tissue coating: a smooth-to-rough dielectric interface (GGX microfacets, Fresnel) over the
+// base; see coated.h for the energy-conserving layering.
+struct Coating {
+  bool enabled = false;
+  double ior = 1.33;        // water-like mucus layer
+  double roughness = 0.15;  // GGX alpha
+};
+
+struct Material {
+  std::string name;
+  std::vector<double> reflectance;        // R on the grid, 0..1
+  std::vector<FluorophoreLayer> fluorophores;
+  std::vector<double> base_transmittance; // one-way transmittance of an absorbing layer over the
+                                          // base (blood), empty = none; applied as T(em) A T(ex)
+  Coating coating;
+  std::vector<double> emission;           // Lambertian emitted radiance, W sr^-1 m^-2 nm^-1, empty = none
+  int reflectance_texture = -1;           // optional grayscale map multiplying R
+};
+
+}  // namespace ofl

@@ -1,0 +1,60 @@
+#include "materials/material_parser.h"
+
+#include <algorithm>
+#include <sstream>
+
+#include "renderer/core/error.h"
+
+namespace ofl {
+
+AlbedoCheck photon_albedo_check(const Material& m, const std::vector<GridEem>& eems, const std::vector<Texture>& textures,
+                                const WavelengthGrid& grid) {
+  auto max_tex = [&](int t) {
+    if (t < 0) return 1.0;
+    return static_cast<double>(*std::max_element(textures[t].texels.begin(), textures[t].texels.end()));
+  };
+  int N = grid.size();
+  std::vector<double> a(N, 0.0);
+  double rscale = max_tex(m.reflectance_texture);
+  for (int i = 0; i < N; ++i) a[i] = m.reflectance[i] * rscale;
+  for (auto& f : m.fluorophores) {
+    auto pa = eems[f.eem].photon_albedo();
+    double c = f.concentration * max_tex(f.texture);
+    for (int i = 0; i < N; ++i) a[i] += c * pa[i];
+  }
+  if (!m.base_transmittance.empty()) {
+    // Through an absorbing layer: T(ex) [R T + sum Phi T(em)]; bounded by the unlayered value.
+    for (int ex = 0; ex < N; ++ex) {
+      double s = m.reflectance[ex] * rscale * m.base_transmittance[ex];
+      for (auto& f : m.fluorophores) {
+        double c = f.concentration * max_tex(f.texture);
+        for (int em = ex + 1; em < N; ++em) s += c * eems[f.eem].at(em, ex) * grid.step_nm * m.base_transmittance[em];
+      }
+      a[ex] = m.base_transmittance[ex] * s;
+    }
+  }
+  AlbedoCheck r;
+  for (int i = 0; i < N; ++i)
+    if (a[i] > r.max_albedo) { r.max_albedo = a[i]; r.at_nm = grid.wavelength(i); }
+  return r;
+}
+
+Material parse_material(const std::string& name, const JsonNode& n, MaterialContext& ctx) {
+  std::string type = n.at("type").string();
+  Material m;
+  if (type == "lambertian") m = parse_lambertian(n, ctx);
+  else if (type == "fluorescent") m = parse_fluorescent(n, ctx);
+  else if (type == "coated") m = parse_coated(n, ctx);
+  else n.at("type").fail("unknown material type \"" + type + "\" (expected lambertian, fluorescent, coated)");
+  m.name = name;
+  AlbedoCheck c = photon_albedo_check(m, *ctx.eems, *ctx.textures, ctx.grid);
+  if (c.max_albedo > 1.0 + 1e-9) {
+    std::ostringstream s;
+    s << "creates energy: photon albedo R + sum c * integral Phi = " << c.max_albedo << " > 1 at excitation " << c.at_nm
+      << " nm (lower the reflectance or the concentrations)";
+    n.fail(s.str());
+  }
+  return m;
+}
+
+}  // namespace ofl

@@ -1,0 +1,53 @@
+// Builds Materials from the "materials" section of a scene file. Each JSON "type" has its own file:
+//   lambertian.cpp   {"type": "lambertian", "reflectance": <spectrum>, "emission": <spectrum>}
+//   fluorescent.cpp  {"type": "fluorescent", "reflectance": ..., "fluorophores": [{"name": "FAD",
+//                     "concentration": 0.02, "texture": "map.png"}, {"eem": "my.csv", ...}]}
+//   coated.cpp       {"type": "coated", "base": <lambertian|fluorescent>, "ior": 1.33, "roughness": 0.15}
+//   tissue.cpp, teeth.cpp: oral presets built from shipped measurements (see their headers)
+// A material whose photon albedo R(ex) + sum_k c_k integral Phi_k(em, ex) d em exceeds 1 at any
+// excitation wavelength creates energy and is rejected.
+#pragma once
+#include <filesystem>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "materials/material.h"
+#include "renderer/core/json_node.h"
+#include "renderer/scene/texture.h"
+#include "renderer/spectral/eem.h"
+
+namespace ofl {
+
+// Shared state while parsing materials: the grid and the scene's EEM and texture tables (so a
+// fluorophore or texture used by several materials is loaded once).
+struct MaterialContext {
+  WavelengthGrid grid;
+  std::vector<GridEem>* eems;
+  std::vector<Texture>* textures;
+  std::map<std::string, int> eem_index;      // key: library name or resolved path
+  std::map<std::string, int> texture_index;  // key: resolved path
+};
+
+Material parse_material(const std::string& name, const JsonNode& node, MaterialContext& ctx);
+
+// Per-type builders (one file each).
+Material parse_lambertian(const JsonNode& node, MaterialContext& ctx);
+Material parse_fluorescent(const JsonNode& node, MaterialContext& ctx);
+Material parse_coated(const JsonNode& node, MaterialContext& ctx);
+
+// Common pieces used by several types.
+std::vector<double> parse_reflectance(const JsonNode& node, const WavelengthGrid& grid);
+std::vector<double> parse_emission(const JsonNode& node, const WavelengthGrid& grid);
+std::vector<FluorophoreLayer> parse_fluorophore_layers(const JsonNode& node, MaterialContext& ctx);
+int load_texture(const JsonNode& node, MaterialContext& ctx);
+
+// Largest photon albedo over excitation wavelengths (with textures at their maximum) and where.
+struct AlbedoCheck {
+  double max_albedo = 0;
+  double at_nm = 0;
+};
+AlbedoCheck photon_albedo_check(const Material& m, const std::vector<GridEem>& eems,
+                                const std::vector<Texture>& textures, const WavelengthGrid& grid);
+
+}  // namespace ofl

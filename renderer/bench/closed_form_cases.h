@@ -1,0 +1,44 @@
+// Accuracy benchmarks against closed-form answers (DESIGN.md section 7). Each case builds its
+// scene in memory, renders it, and compares every pixel and band with the exact radiance.
+// Errors are reported per image region: the relative error of the region's mean radiance in each
+// band (bias plus the noise left after averaging the region), and the RMS per-pixel relative error
+// (noise), which should fall like 1/sqrt(spp).
+#pragma once
+#include <functional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+namespace ofl {
+
+struct BenchRegion {
+  std::string name;
+  double rel_error = 0;      // mean over bands of |mean(L) - mean(L_ref)| / mean(L_ref)
+  double max_band_error = 0; // worst band
+  int pixels = 0;
+};
+
+struct BenchResult {
+  std::string name;
+  int spp = 0;
+  double mean_rel_error = 0;     // mean over regions and bands
+  double max_rel_error = 0;      // worst region and band
+  double rms_pixel_rel_error = 0;
+  double seconds = 0;
+  double camera_samples_per_second = 0;
+  std::vector<BenchRegion> regions;
+  nlohmann::json to_json() const;
+};
+
+struct BenchCaseInfo {
+  std::string name;
+  std::string description;
+  int default_spp;
+};
+
+std::vector<BenchCaseInfo> bench_cases();
+// Runs one case; throws InputError for an unknown name. `seed` changes the random streams.
+BenchResult run_bench_case(const std::string& name, int spp, uint64_t seed = 1);
+
+}  // namespace ofl

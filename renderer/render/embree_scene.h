@@ -1,0 +1,64 @@
+// The Scene's geometry in Embree 3: triangle meshes, analytic spheres (SPHERE_POINT), disks and
+// LED emitter disks (ORIENTED_DISC_POINT). Every ray the renderer traces goes through here.
+#pragma once
+#include <embree3/rtcore.h>
+
+#include <vector>
+
+#include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
+
+#include "renderer/scene/scene.h"
+
+namespace ofl {
+
+struct GeomInfo {
+  enum class Kind { kMesh, kSphere, kDisk, kLed };
+  Kind kind = Kind::kMesh;
+  int index = -1;     // into Scene::meshes / spheres / disks / lights
+  int material = -1;  // -1 for LEDs
+};
+
+struct RayHit {
+  float t = 0;
+  unsigned geom = RTC_INVALID_GEOMETRY_ID, prim = 0;
+  float u = 0, v = 0;
+  glm::vec3 ng{0, 0, 1};  // Embree's geometric normal (not normalised)
+  bool found() const { return geom != RTC_INVALID_GEOMETRY_ID; }
+};
+
+// Where a ray hit a surface, with everything shading needs.
+struct SurfacePoint {
+  glm::dvec3 p;
+  glm::dvec3 ng;  // unit geometric normal (front side as authored)
+  glm::dvec3 ns;  // unit shading normal
+  glm::vec2 uv{0, 0};
+  int material = -1;
+  double scale = 0.1;  // magnitude of p, for ray offsets
+};
+
+class EmbreeScene {
+ public:
+  explicit EmbreeScene(const Scene& scene);
+  ~EmbreeScene();
+  EmbreeScene(const EmbreeScene&) = delete;
+  EmbreeScene& operator=(const EmbreeScene&) = delete;
+
+  RayHit intersect(const glm::dvec3& o, const glm::dvec3& d, float tmax = 1e30f) const;
+  bool occluded(const glm::dvec3& o, const glm::dvec3& d, float tmax) const;
+
+  const GeomInfo& info(unsigned geom) const { return info_[geom]; }
+  SurfacePoint surface(const RayHit& h, const glm::dvec3& o, const glm::dvec3& d) const;
+  RTCScene handle() const { return scene_; }
+
+  // A point offset off the surface toward `dir`, to start a ray without hitting the surface again.
+  static glm::dvec3 offset(const SurfacePoint& s, const glm::dvec3& dir);
+
+ private:
+  const Scene& src_;
+  RTCDevice device_ = nullptr;
+  RTCScene scene_ = nullptr;
+  std::vector<GeomInfo> info_;
+};
+
+}  // namespace ofl

@@ -1,0 +1,119 @@
+#include "renderer/render/render_job.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <mutex>
+
+#include <nlohmann/json.hpp>
+
+#include "renderer/core/progress.h"
+
+namespace ofl {
+
+RenderResult render(const Scene& scene, const RenderOptions& opt) {
+  auto t0 = std::chrono::steady_clock::now();
+  EmbreeScene embree(scene);
+  RenderTables tables(scene, opt.wavelength_importance);
+  PathTracer tracer(scene, embree, tables);
+  auto t1 = std::chrono::steady_clock::now();
+
+  const int W = scene.camera.width, H = scene.camera.height, B = tables.bands;
+  const int spp = scene.integrator.spp;
+  const uint64_t seed = scene.integrator.seed;
+  std::vector<double> sum(size_t(W) * H * B, 0.0);
+  // Two half-sums (even and odd samples) for the noise estimate.
+  std::vector<float> half(size_t(W) * H * 2, 0.0f);
+  constexpr int kTile = 16;
+  const int tx = (W + kTile - 1) / kTile, ty = (H + kTile - 1) / kTile;
+
+  RenderStats st;
+  st.build_seconds = std::chrono::duration<double>(t1 - t0).count();
+  ProgressBar bar("render", int64_t(W) * H * spp);
+  std::mutex mu;
+  int done = 0;
+  const int max_pass = std::max(1, int(4'000'000 / (int64_t(W) * H)));
+  while (done < spp) {
+    int pass = std::clamp(done, 1, max_pass);
+    pass = std::min(pass, spp - done);
+    tbb::parallel_for(tbb::blocked_range<int>(0, tx * ty, 1), [&](const tbb::blocked_range<int>& r) {
+      RayCounts local;
+      std::vector<double> acc(B);
+      for (int tile = r.begin(); tile != r.end(); ++tile) {
+        int x0 = (tile % tx) * kTile, y0 = (tile / tx) * kTile;
+        for (int y = y0; y < std::min(y0 + kTile, H); ++y)
+          for (int x = x0; x < std::min(x0 + kTile, W); ++x) {
+            std::fill(acc.begin(), acc.end(), 0.0);
+            uint64_t pixel = uint64_t(y) * W + x;
+            double h0 = 0, h1 = 0;
+            for (int s = done; s < done + pass; ++s) {
+              Rng rng(seed, Rng::stream_for(pixel, s));
+              double before = 0;
+              for (int b = 0; b < B; ++b) before += acc[b];
+              tracer.sample_pixel(x, y, rng, acc.data(), local, opt.ray_log);
+              double after = 0;
+              for (int b = 0; b < B; ++b) after += acc[b];
+              ((s & 1) ? h1 : h0) += after - before;
+            }
+            double* dst = sum.data() + pixel * B;
+            for (int b = 0; b < B; ++b) dst[b] += acc[b];
+            half[2 * pixel] += float(h0);
+            half[2 * pixel + 1] += float(h1);
+          }
+        bar.advance(int64_t(std::min(kTile, W - x0)) * std::min(kTile, H - y0) * pass);
+      }
+      std::lock_guard lock(mu);
+      st.rays += local;
+    });
+    done += pass;
+    // Relative noise of the image mean from the difference of the even and odd half-images.
+    double tot = 0, diff2 = 0;
+    for (size_t p = 0; p < size_t(W) * H; ++p) {
+      tot += half[2 * p] + half[2 * p + 1];
+      double d = half[2 * p] - half[2 * p + 1];
+      diff2 += d * d;
+    }
+    double npx = double(W) * H;
+    double mean = tot / npx;
+    st.relative_noise = mean > 0 ? std::sqrt(diff2 / npx) / mean : 0;  // per-pixel relative std error
+    if (interrupt_requested()) { st.interrupted = done < spp; break; }
+    if (scene.integrator.noise_target > 0 && done >= 4 && st.relative_noise <= scene.integrator.noise_target) break;
+  }
+  bar.finish();
+  auto t2 = std::chrono::steady_clock::now();
+  st.seconds = std::chrono::duration<double>(t2 - t1).count();
+  st.spp_done = done;
+  st.camera_samples = uint64_t(W) * H * done;
+
+  RenderResult res;
+  std::vector<double> centres;
+  for (int b = 0; b < B; ++b) centres.push_back(scene.integrator.bands.centre(b));
+  res.image.resize(W, H, centres);
+  double inv = done > 0 ? 1.0 / done : 0.0;
+  for (size_t i = 0; i < sum.size(); ++i) res.image.data[i] = float(sum[i] * inv);
+  res.stats = st;
+  describe_render(scene, st, res.image);
+  return res;
+}
+
+void describe_render(const Scene& scene, const RenderStats& st, SpectralImage& img) {
+  img.attributes["oralfluor.scene"] = scene.file;
+  img.attributes["oralfluor.spp"] = std::to_string(st.spp_done);
+  img.attributes["oralfluor.seed"] = std::to_string(scene.integrator.seed);
+  img.attributes["oralfluor.vfov_deg"] = std::to_string(scene.camera.vfov_deg);
+  img.attributes["oralfluor.camera_position"] = nlohmann::json({scene.camera.position.x, scene.camera.position.y, scene.camera.position.z}).dump();
+  if (st.interrupted) img.attributes["oralfluor.interrupted"] = "true";
+  // Summed on-axis radiant intensity of the LEDs, for tools that need the excitation spectrum.
+  const WavelengthGrid& g = scene.grid();
+  std::vector<double> nm, w(g.size(), 0.0);
+  for (int i = 0; i < g.size(); ++i) nm.push_back(g.wavelength(i));
+  for (const auto& l : scene.lights)
+    for (int i = 0; i < g.size(); ++i) w[i] += l.spectral_intensity[i];
+  img.attributes["oralfluor.excitation_spd"] = nlohmann::json({{"nm", nm}, {"W_per_sr_nm", w}}).dump();
+}
+
+}  // namespace ofl

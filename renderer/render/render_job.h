@@ -1,0 +1,42 @@
+// Runs a render: TBB over 16x16 tiles, samples in passes (so an interrupted render keeps every
+// completed pass and a noise target can stop early), progress on stderr, ray and time statistics.
+// Produces the spectral radiance image on the scene's output bands.
+#pragma once
+#include <cstdint>
+#include <functional>
+
+#include "renderer/image/spectral_image.h"
+#include "renderer/render/path_tracer.h"
+#include "renderer/scene/scene.h"
+
+namespace ofl {
+
+struct RenderOptions {
+  bool progress = true;              // progress bar (only shown on a terminal anyway)
+  RayLog* ray_log = nullptr;         // record rays (benchmarks)
+  std::vector<double> wavelength_importance;  // optional, per grid index (camera sensitivity)
+};
+
+struct RenderStats {
+  double seconds = 0;           // wall time of tracing (excludes scene building)
+  double build_seconds = 0;     // Embree BVH and tables
+  int spp_done = 0;
+  uint64_t camera_samples = 0;
+  RayCounts rays;
+  bool interrupted = false;
+  double relative_noise = 0;    // estimated relative standard error of the mean band radiance
+  double samples_per_second() const { return seconds > 0 ? camera_samples / seconds : 0; }
+  double rays_per_second() const { return seconds > 0 ? rays.total() / seconds : 0; }
+};
+
+struct RenderResult {
+  SpectralImage image;  // W sr^-1 m^-2 nm^-1 on the output bands
+  RenderStats stats;
+};
+
+RenderResult render(const Scene& scene, const RenderOptions& options = {});
+
+// String header attributes describing the render (scene, spp, seed, camera, LED spectra).
+void describe_render(const Scene& scene, const RenderStats& stats, SpectralImage& image);
+
+}  // namespace ofl

@@ -1,0 +1,105 @@
+#include "renderer/render/render_tables.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "renderer/spectral/units.h"
+
+namespace ofl {
+
+RenderTables::RenderTables(const Scene& sc, const std::vector<double>& importance) : n(sc.grid().size()), grid(sc.grid()) {
+  const double step = grid.step_nm;
+  const bool fluo = sc.integrator.fluorescence;
+
+  // Light spectra grouped by shape.
+  int groups = 0;
+  std::vector<int> group_of_first(sc.lights.size(), -1);
+  for (size_t i = 0; i < sc.lights.size(); ++i) {
+    int g = sc.lights[i].spd_group;
+    if (group_of_first[g] < 0) {
+      group_of_first[g] = groups++;
+      std::vector<float> shape(n, 0.0f);
+      double i0 = sc.lights[i].intensity_W_sr;
+      for (int k = 0; k < n; ++k) shape[k] = i0 > 0 ? float(sc.lights[i].spectral_photons[k] / i0) : 0.0f;
+      light_shape.push_back(std::move(shape));
+    }
+    light_group.push_back(group_of_first[g]);
+    light_scale.push_back(float(sc.lights[i].intensity_W_sr));
+  }
+  std::vector<double> power;
+  for (auto& l : sc.lights) power.push_back(l.power_W);
+  light_select = DiscreteDistribution(power);
+
+  for (const Material& m : sc.materials) {
+    MaterialTables t;
+    const auto& T = m.base_transmittance;
+    auto tr = [&](int k) { return T.empty() ? 1.0 : T[k]; };
+    t.reflectance.resize(n);
+    for (int k = 0; k < n; ++k) t.reflectance[k] = float(m.reflectance[k] * tr(k) * tr(k));
+    if (!m.emission.empty()) {
+      t.emission.resize(n);
+      for (int k = 0; k < n; ++k) t.emission[k] = float(m.emission[k] * photons_per_joule(grid.wavelength(k)));
+    }
+    t.reflectance_texture = m.reflectance_texture;
+    t.coated = m.coating.enabled;
+    if (t.coated) t.coating.prepare(m.coating.ior, m.coating.roughness);
+    if (fluo) {
+      for (const auto& f : m.fluorophores) {
+        if (f.concentration <= 0) continue;
+        FluorophoreTables ft;
+        ft.texture = f.texture;
+        ft.concentration = float(f.concentration);
+        const GridEem& e = sc.eems[f.eem];
+        ft.phi.assign(size_t(n) * n, 0.0f);
+        ft.row_sum.assign(n, 0.0f);
+        ft.row_cdf.assign(size_t(n) * n, 0.0f);
+        for (int em = 0; em < n; ++em) {
+          double acc = 0;
+          for (int ex = 0; ex < em; ++ex) {
+            double v = e.at(em, ex) * step * tr(em) * tr(ex);
+            ft.phi[size_t(em) * n + ex] = float(v);
+            acc += v;
+            ft.row_cdf[size_t(em) * n + ex] = float(acc);
+          }
+          ft.row_sum[em] = float(acc);
+          for (int ex = 0; ex < n; ++ex) {
+            float& c = ft.row_cdf[size_t(em) * n + ex];
+            c = acc > 0 ? (ex < em ? float(c / acc) : 1.0f) : 1.0f;
+          }
+        }
+        for (const auto& shape : light_shape) {
+          std::vector<float> d(n, 0.0f);
+          for (int em = 0; em < n; ++em) {
+            double s = 0;
+            for (int ex = 0; ex < em; ++ex) s += double(ft.phi[size_t(em) * n + ex]) * shape[ex];
+            d[em] = float(s);
+          }
+          ft.direct.push_back(std::move(d));
+        }
+        t.fluorophores.push_back(std::move(ft));
+      }
+    }
+    materials.push_back(std::move(t));
+  }
+
+  // Band weights: overlap of grid bin i with band b, over the band width.
+  const BandSet& bs = sc.integrator.bands;
+  bands = bs.size();
+  band_weights.assign(n, {});
+  std::vector<double> useful(n, 0.0);
+  for (int i = 0; i < n; ++i) {
+    for (int b = 0; b < bands; ++b) {
+      double lo = std::max(grid.bin_lo(i), bs.centre(b) - 0.5 * bs.step_nm);
+      double hi = std::min(grid.bin_hi(i), bs.centre(b) + 0.5 * bs.step_nm);
+      if (hi - lo > 1e-9) band_weights[i].push_back({b, float((hi - lo) / bs.step_nm)});
+    }
+    useful[i] = band_weights[i].empty() ? 0.0 : 1.0;
+    if (!importance.empty()) useful[i] *= importance[i];
+  }
+  wavelength_pdf = DiscreteDistribution(useful);
+  film_scale.assign(n, 0.0);
+  for (int i = 0; i < n; ++i)
+    if (wavelength_pdf.pmf[i] > 0) film_scale[i] = photon_energy_J(grid.wavelength(i)) / wavelength_pdf.pmf[i];
+}
+
+}  // namespace ofl

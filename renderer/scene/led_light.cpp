@@ -1,0 +1,136 @@
+#include "renderer/scene/led_light.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <glm/geometric.hpp>
+
+#include "renderer/core/csv.h"
+#include "renderer/core/error.h"
+#include "renderer/spectral/spectrum_json.h"
+#include "renderer/spectral/units.h"
+
+namespace ofl {
+
+double LedProfile::cos_power_from_half_angle(double half_deg) {
+  return std::log(0.5) / std::log(std::cos(half_deg * kPi / 180.0));
+}
+
+double LedProfile::eval(double c) const {
+  if (c <= 0) return 0.0;
+  if (table_cos.empty()) return std::pow(c, cos_power);
+  if (c <= table_cos.front()) return table_value.front();
+  if (c >= table_cos.back()) return table_value.back();
+  size_t i = std::upper_bound(table_cos.begin(), table_cos.end(), c) - table_cos.begin();
+  double t = (c - table_cos[i - 1]) / (table_cos[i] - table_cos[i - 1]);
+  return table_value[i - 1] * (1 - t) + table_value[i] * t;
+}
+
+double LedProfile::solid_angle_integral() const {
+  if (table_cos.empty()) return 2.0 * kPi / (cos_power + 1.0);
+  // 2 pi * integral_0^1 P(mu) d mu, P piecewise linear in mu; fine midpoint rule.
+  const int n = 20000;
+  double s = 0;
+  for (int i = 0; i < n; ++i) s += eval((i + 0.5) / n);
+  return 2.0 * kPi * s / n;
+}
+
+double LedLight::area() const { return kPi * radius_m * radius_m; }
+
+static LedProfile parse_profile(const JsonNode& n) {
+  LedProfile p;
+  n.check_keys({"half_angle_deg", "cos_power", "table", "table_file"});
+  int given = n.has("half_angle_deg") + n.has("cos_power") + n.has("table") + n.has("table_file");
+  if (given != 1) n.fail("give exactly one of half_angle_deg, cos_power, table, table_file");
+  if (auto h = n.find("half_angle_deg")) {
+    p.cos_power = LedProfile::cos_power_from_half_angle(h->number(0.5, 89.5));
+    return p;
+  }
+  if (auto m = n.find("cos_power")) {
+    p.cos_power = m->number(0.0, 1e4);
+    return p;
+  }
+  std::vector<std::pair<double, double>> rows;  // (angle_deg, relative)
+  if (auto t = n.find("table")) {
+    for (size_t i = 0; i < t->size(); ++i) {
+      JsonNode r = t->at(i);
+      if (!r.is_array() || r.size() != 2) r.fail("expected [angle_deg, relative_intensity]");
+      rows.push_back({r.at(0).number(0.0, 90.0), r.at(1).number(0.0)});
+    }
+  } else {
+    auto file = n.at("table_file").existing_file();
+    CsvNumeric c = read_numeric_csv(file);
+    if (c.header.size() < 2) throw InputError(c.file, "", "expected columns angle_deg, relative_intensity");
+    for (size_t i = 0; i < c.rows.size(); ++i) {
+      double a = c.rows[i][0], v = c.rows[i][1];
+      if (!std::isfinite(a) || !std::isfinite(v) || a < 0 || a > 90 || v < 0)
+        throw InputError(c.file, "line " + std::to_string(c.lines[i]), "angle must be 0..90 deg and intensity >= 0");
+      rows.push_back({a, v});
+    }
+  }
+  if (rows.size() < 2) n.fail("an angular table needs at least two rows");
+  for (size_t i = 1; i < rows.size(); ++i)
+    if (!(rows[i].first > rows[i - 1].first)) n.fail("table angles must increase");
+  if (rows.front().first != 0.0) n.fail("the angular table must start at 0 degrees");
+  double p0 = rows.front().second;
+  if (!(p0 > 0)) n.fail("on-axis relative intensity must be positive");
+  // Store by increasing cos(theta), i.e. decreasing angle.
+  for (auto it = rows.rbegin(); it != rows.rend(); ++it) {
+    p.table_cos.push_back(std::cos(it->first * kPi / 180.0));
+    p.table_value.push_back(it->second / p0);
+  }
+  return p;
+}
+
+LedLight parse_led(const JsonNode& n, const WavelengthGrid& grid) {
+  n.check_keys({"type", "name", "spd", "filter", "filters", "radiant_intensity_W_sr", "flux_W", "profile", "radius_m",
+                "position", "axis", "target"});
+  LedLight l;
+  std::string type = n.string_or("type", "led");
+  if (type != "led") n.at("type").fail("unknown light type \"" + type + "\" (expected led)");
+  l.name = n.string_or("name", "");
+  l.position = n.at("position").vec3();
+  if (n.has("axis") == n.has("target")) n.fail("give exactly one of axis or target");
+  if (auto a = n.find("axis")) l.axis = a->unit_vec3();
+  else {
+    glm::dvec3 d = n.at("target").vec3() - l.position;
+    if (glm::length(d) < 1e-12) n.at("target").fail("target equals position");
+    l.axis = glm::normalize(d);
+  }
+  glm::dvec3 helper = std::fabs(l.axis.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0);
+  l.tangent = glm::normalize(glm::cross(helper, l.axis));
+  l.bitangent = glm::cross(l.axis, l.tangent);
+  l.radius_m = n.number_or("radius_m", 0.0, 0.0, 1.0);
+  l.profile = n.find("profile") ? parse_profile(n.at("profile")) : LedProfile{};
+
+  JsonNode spd_node = n.at("spd");
+  std::vector<double> s = tabulate(parse_spectrum(spd_node, SpectrumKind::kEmission), grid);
+  check_tabulated(spd_node, s, grid, SpectrumKind::kEmission);
+  double area = integrate(s, grid);
+  if (!(area > 0)) spd_node.fail("SPD is zero over the wavelength grid");
+  for (double& v : s) v /= area;  // unit integral over the grid
+
+  if (n.has("radiant_intensity_W_sr") == n.has("flux_W")) n.fail("give exactly one of radiant_intensity_W_sr or flux_W");
+  double i0 = n.has("radiant_intensity_W_sr") ? n.at("radiant_intensity_W_sr").number(0.0)
+                                              : n.at("flux_W").number(0.0) / l.profile.solid_angle_integral();
+  // Filters act after the LED's own output is fixed: they remove power.
+  std::vector<JsonNode> filters;
+  if (auto f = n.find("filter")) filters.push_back(*f);
+  if (auto fs = n.find("filters"))
+    for (size_t i = 0; i < fs->size(); ++i) filters.push_back(fs->at(i));
+  for (auto& f : filters) {
+    auto t = tabulate(parse_filter(f).at_angle(0.0), grid);
+    for (size_t i = 0; i < s.size(); ++i) s[i] *= t[i];
+  }
+  l.spectral_intensity.resize(s.size());
+  l.spectral_photons.resize(s.size());
+  for (size_t i = 0; i < s.size(); ++i) {
+    l.spectral_intensity[i] = i0 * s[i];
+    l.spectral_photons[i] = l.spectral_intensity[i] * photons_per_joule(grid.wavelength(static_cast<int>(i)));
+  }
+  l.intensity_W_sr = integrate(l.spectral_intensity, grid);
+  l.power_W = l.intensity_W_sr * l.profile.solid_angle_integral();
+  return l;
+}
+
+}  // namespace ofl

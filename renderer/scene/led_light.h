@@ -1,0 +1,47 @@
+// LEDs: radiant intensity I(theta, lambda) = I0 * S(lambda) * P(theta) with S the SPD (times any
+// filters) normalised to unit integral over the transport grid before filtering, P an angular
+// profile with P(0) = 1 (Lambertian-power cos^m with m from the half-angle, or a measured
+// angle/relative-intensity table), a disk emitter of radius a (0 = point), a position and an axis.
+// A disk of area A = pi a^2 has radiance L(theta) = I0 S P(theta) / (A cos theta), so its far field
+// is exactly I(theta); m = 1 gives a uniform Lambertian disk.
+#pragma once
+#include <string>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "renderer/core/json_node.h"
+#include "renderer/spectral/wavelength_grid.h"
+
+namespace ofl {
+
+struct LedProfile {
+  double cos_power = 1.0;           // used when the table is empty
+  std::vector<double> table_cos;    // increasing cos(theta) (from the angle table), with
+  std::vector<double> table_value;  // relative intensity, 1 on axis
+  double eval(double cos_theta) const;  // P(theta), 0 behind the emitter
+  double solid_angle_integral() const;  // integral of P over the sphere (sr)
+  static double cos_power_from_half_angle(double half_angle_deg);  // cos^m(half) = 1/2
+};
+
+struct LedLight {
+  std::string name;
+  glm::dvec3 position{0, 0, 0};
+  glm::dvec3 axis{0, 0, -1};
+  glm::dvec3 tangent{1, 0, 0}, bitangent{0, 1, 0};  // frame of the emitting disk
+  double radius_m = 0;
+  LedProfile profile;
+  double intensity_W_sr = 0;                 // I0 over the grid (after filters: see filtered_intensity)
+  std::vector<double> spectral_intensity;    // I0 S(lambda) with filters, W sr^-1 nm^-1 on the grid
+  std::vector<double> spectral_photons;      // same in photons s^-1 sr^-1 nm^-1
+  int spd_group = 0;                         // lights with identical spectra share a group
+  double power_W = 0;                        // total flux with filters (for light selection)
+
+  double area() const;
+  bool is_point() const { return radius_m <= 0; }
+};
+
+// Parses one entry of "lights" (see docs/scene-format.md) on the given grid.
+LedLight parse_led(const JsonNode& node, const WavelengthGrid& grid);
+
+}  // namespace ofl

@@ -1,0 +1,81 @@
+// A scene ready to render: everything from the scene file tabulated on the transport grid.
+// load_scene() reads the JSON file (format documented in docs/scene-format.md); every error names
+// the file and the JSON pointer of the offending field and is an InputError (exit code 2).
+#pragma once
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "materials/material.h"
+#include "renderer/core/json_node.h"
+#include "renderer/scene/camera_spec.h"
+#include "renderer/scene/led_light.h"
+#include "renderer/scene/texture.h"
+#include "renderer/scene/triangle_mesh.h"
+#include "renderer/spectral/eem.h"
+#include "renderer/spectral/wavelength_grid.h"
+
+namespace ofl {
+
+// Output bands of the film: centres min..max every step, each band step wide.
+struct BandSet {
+  double min_nm = 400, max_nm = 700, step_nm = 10;
+  int size() const { return static_cast<int>(std::lround((max_nm - min_nm) / step_nm)) + 1; }
+  double centre(int b) const { return min_nm + step_nm * b; }
+};
+
+struct IntegratorSpec {
+  int spp = 16;
+  int max_depth = 5;          // scattering events per path
+  int rr_start_depth = 3;     // Russian roulette from this depth on
+  uint64_t seed = 1;
+  WavelengthGrid grid;
+  BandSet bands;
+  enum class DirectExcitation { kDeterministic, kSampled };
+  DirectExcitation direct_excitation = DirectExcitation::kDeterministic;
+  bool fluorescence = true;   // false: fluorophores are ignored (for cost/contrast comparisons)
+  double noise_target = 0;    // > 0: stop adding passes once the relative noise falls below this
+};
+
+struct SphereShape {
+  glm::dvec3 center{0, 0, 0};
+  double radius = 1;
+  int material = -1;
+};
+
+struct DiskShape {
+  glm::dvec3 center{0, 0, 0}, normal{0, 0, 1};
+  double radius = 1;
+  int material = -1;
+};
+
+struct Scene {
+  std::string file;
+  CameraSpec camera;
+  IntegratorSpec integrator;
+  std::vector<Material> materials;
+  std::vector<GridEem> eems;      // fluorophores referenced by materials
+  std::vector<Texture> textures;
+  std::vector<TriangleMesh> meshes;
+  std::vector<SphereShape> spheres;
+  std::vector<DiskShape> disks;
+  std::vector<LedLight> lights;
+
+  const WavelengthGrid& grid() const { return integrator.grid; }
+};
+
+// Command-line overrides (--spp, --seed), applied after the file is read.
+struct SceneOverrides {
+  std::optional<int> spp;
+  std::optional<uint64_t> seed;
+  std::optional<int> width, height;
+};
+
+Scene load_scene(const std::filesystem::path& file, const SceneOverrides& overrides = {});
+Scene load_scene(const JsonFile& doc, const SceneOverrides& overrides = {});
+
+}  // namespace ofl

@@ -1,0 +1,150 @@
+// Reads a scene file into a Scene. Sections: "format"/"version", "integrator", "camera",
+// "materials" (name -> material), "geometry" (list), "lights" (list). See docs/scene-format.md.
+#include <cmath>
+#include <set>
+
+#include <glm/geometric.hpp>
+
+#include "materials/material_parser.h"
+#include "renderer/core/error.h"
+#include "renderer/scene/scene.h"
+
+namespace ofl {
+namespace {
+
+constexpr int kFormatVersion = 1;
+
+IntegratorSpec parse_integrator(const JsonNode& n) {
+  n.check_keys({"spp", "max_depth", "rr_start_depth", "seed", "wavelengths", "output_bands", "direct_excitation",
+                "fluorescence", "noise_target"});
+  IntegratorSpec s;
+  s.spp = n.integer_or("spp", s.spp, 1, 1 << 24);
+  s.max_depth = n.integer_or("max_depth", s.max_depth, 0, 100000);
+  s.rr_start_depth = n.integer_or("rr_start_depth", s.rr_start_depth, 0, 100000);
+  if (auto seed = n.find("seed")) s.seed = static_cast<uint64_t>(seed->integer(0));
+  if (auto w = n.find("wavelengths")) {
+    w->check_keys({"min_nm", "max_nm", "step_nm"});
+    s.grid.min_nm = w->number_or("min_nm", s.grid.min_nm, 1.0, 1e5);
+    s.grid.max_nm = w->number_or("max_nm", s.grid.max_nm, 1.0, 1e5);
+    s.grid.step_nm = w->number_or("step_nm", s.grid.step_nm, 0.01, 1e4);
+    if (auto p = s.grid.problem(); !p.empty()) w->fail(p);
+  }
+  if (auto b = n.find("output_bands")) {
+    b->check_keys({"min_nm", "max_nm", "step_nm"});
+    s.bands.min_nm = b->number_or("min_nm", s.bands.min_nm, 1.0);
+    s.bands.max_nm = b->number_or("max_nm", s.bands.max_nm, 1.0);
+    s.bands.step_nm = b->number_or("step_nm", s.bands.step_nm, 0.01);
+    double nb = (s.bands.max_nm - s.bands.min_nm) / s.bands.step_nm;
+    if (nb < 0 || std::fabs(nb - std::round(nb)) > 1e-6) b->fail("step_nm must divide max_nm - min_nm");
+  }
+  double lo = s.bands.min_nm - 0.5 * s.bands.step_nm, hi = s.bands.max_nm + 0.5 * s.bands.step_nm;
+  if (lo < s.grid.bin_lo(0) - 1e-9 || hi > s.grid.bin_hi(s.grid.size() - 1) + 1e-9)
+    n.fail("output bands " + std::to_string(lo) + "-" + std::to_string(hi) + " nm reach outside the wavelength grid");
+  std::string de = n.choice_or("direct_excitation", "deterministic", {"deterministic", "sampled"});
+  s.direct_excitation = de == "sampled" ? IntegratorSpec::DirectExcitation::kSampled : IntegratorSpec::DirectExcitation::kDeterministic;
+  s.fluorescence = n.boolean_or("fluorescence", true);
+  s.noise_target = n.number_or("noise_target", 0.0, 0.0, 1.0);
+  return s;
+}
+
+int material_index(const Scene& sc, const std::string& name) {
+  for (size_t i = 0; i < sc.materials.size(); ++i)
+    if (sc.materials[i].name == name) return static_cast<int>(i);
+  return -1;
+}
+
+int require_material(const Scene& sc, const JsonNode& n) {
+  std::string name = n.string();
+  int i = material_index(sc, name);
+  if (i < 0) n.fail("no material named \"" + name + "\" in /materials");
+  return i;
+}
+
+void parse_geometry(Scene& sc, const JsonNode& list) {
+  for (size_t gi = 0; gi < list.size(); ++gi) {
+    JsonNode g = list.at(gi);
+    std::string type = g.at("type").string();
+    if (type == "gltf") {
+      g.check_keys({"type", "file", "transform", "materials", "default_material"});
+      glm::dmat4 world = g.find("transform") ? parse_transform(g.at("transform")) : glm::dmat4(1.0);
+      auto file = g.at("file").existing_file();
+      auto meshes = load_gltf(file, world);
+      for (auto& m : meshes) {
+        std::string scene_name = m.material_name;
+        if (auto map = g.find("materials"); map && map->has(m.material_name)) scene_name = map->at(m.material_name).string();
+        m.material = material_index(sc, scene_name);
+        if (m.material < 0 && g.has("default_material")) m.material = require_material(sc, g.at("default_material"));
+        if (m.material < 0)
+          g.fail("glTF material \"" + m.material_name + "\" of " + file.string() +
+                 " has no scene material of that name (add it to /materials, map it in \"materials\", or set \"default_material\")");
+        sc.meshes.push_back(std::move(m));
+      }
+    } else if (type == "quad") {
+      g.check_keys({"type", "center", "u", "v", "material"});
+      glm::dvec3 c = g.at("center").vec3(), u = g.at("u").vec3(), v = g.at("v").vec3();
+      if (glm::length(glm::cross(u, v)) < 1e-15) g.fail("u and v must span a plane");
+      TriangleMesh m;
+      m.name = "quad " + std::to_string(gi);
+      m.material = require_material(sc, g.at("material"));
+      glm::dvec3 p[4] = {c - 0.5 * u - 0.5 * v, c + 0.5 * u - 0.5 * v, c + 0.5 * u + 0.5 * v, c - 0.5 * u + 0.5 * v};
+      glm::vec2 uv[4] = {{0, 1}, {1, 1}, {1, 0}, {0, 0}};
+      for (int k = 0; k < 4; ++k) { m.positions.push_back(glm::vec3(p[k])); m.uvs.push_back(uv[k]); }
+      m.indices = {0, 1, 2, 0, 2, 3};
+      sc.meshes.push_back(std::move(m));
+    } else if (type == "sphere") {
+      g.check_keys({"type", "center", "radius", "material"});
+      sc.spheres.push_back({g.at("center").vec3(), g.at("radius").positive(), require_material(sc, g.at("material"))});
+    } else if (type == "disk") {
+      g.check_keys({"type", "center", "normal", "radius", "material"});
+      sc.disks.push_back({g.at("center").vec3(), g.at("normal").unit_vec3(), g.at("radius").positive(), require_material(sc, g.at("material"))});
+    } else {
+      g.at("type").fail("unknown geometry type \"" + type + "\" (expected gltf, quad, sphere, disk)");
+    }
+  }
+}
+
+}  // namespace
+
+Scene load_scene(const std::filesystem::path& file, const SceneOverrides& ov) { return load_scene(JsonFile::load(file), ov); }
+
+Scene load_scene(const JsonFile& doc, const SceneOverrides& ov) {
+  JsonNode r = doc.root();
+  r.check_keys({"format", "version", "description", "integrator", "camera", "materials", "geometry", "lights"});
+  if (auto f = r.find("format"); f && f->string() != "oralfluor-scene") f->fail("expected \"oralfluor-scene\"");
+  int version = r.at("version").integer();
+  if (version != kFormatVersion)
+    r.at("version").fail("unsupported scene format version " + std::to_string(version) + " (this build reads " +
+                         std::to_string(kFormatVersion) + ")");
+  Scene sc;
+  sc.file = doc.name();
+  sc.integrator = r.find("integrator") ? parse_integrator(r.at("integrator")) : IntegratorSpec{};
+  if (ov.spp) sc.integrator.spp = *ov.spp;
+  if (ov.seed) sc.integrator.seed = *ov.seed;
+  sc.camera = parse_camera(r.at("camera"));
+  if (ov.width) sc.camera.width = *ov.width;
+  if (ov.height) sc.camera.height = *ov.height;
+
+  MaterialContext ctx{sc.grid(), &sc.eems, &sc.textures, {}, {}};
+  JsonNode mats = r.at("materials");
+  for (const auto& name : mats.keys()) sc.materials.push_back(parse_material(name, mats.at(name), ctx));
+  parse_geometry(sc, r.at("geometry"));
+  if (sc.meshes.empty() && sc.spheres.empty() && sc.disks.empty()) r.at("geometry").fail("the scene has no geometry");
+
+  if (auto lights = r.find("lights")) {
+    for (size_t i = 0; i < lights->size(); ++i) sc.lights.push_back(parse_led(lights->at(i), sc.grid()));
+    // Lights with identical spectra share precomputed direct-excitation tables.
+    for (size_t i = 0; i < sc.lights.size(); ++i) {
+      sc.lights[i].spd_group = static_cast<int>(i);
+      for (size_t j = 0; j < i; ++j) {
+        double a = sc.lights[i].intensity_W_sr, b = sc.lights[j].intensity_W_sr;
+        bool same = a > 0 && b > 0;
+        for (size_t k = 0; same && k < sc.lights[i].spectral_intensity.size(); ++k)
+          same = std::fabs(sc.lights[i].spectral_intensity[k] / a - sc.lights[j].spectral_intensity[k] / b) <= 1e-12 * (1.0 / a);
+        if (same) { sc.lights[i].spd_group = sc.lights[j].spd_group; break; }
+      }
+    }
+  }
+  return sc;
+}
+
+}  // namespace ofl

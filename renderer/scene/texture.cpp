@@ -1,0 +1,48 @@
+#include "renderer/scene/texture.h"
+
+#include <OpenImageIO/imageio.h>
+
+#include <cmath>
+
+#include "renderer/core/error.h"
+
+namespace ofl {
+
+float Texture::lookup(float u, float v) const {
+  // glTF UV: (0,0) is the top-left of the image, v grows downward.
+  float x = (u - std::floor(u)) * width - 0.5f;
+  float y = (v - std::floor(v)) * height - 0.5f;
+  int x0 = static_cast<int>(std::floor(x)), y0 = static_cast<int>(std::floor(y));
+  float fx = x - x0, fy = y - y0;
+  auto at = [&](int xi, int yi) {
+    xi = ((xi % width) + width) % width;
+    yi = ((yi % height) + height) % height;
+    return texels[static_cast<size_t>(yi) * width + xi];
+  };
+  return (at(x0, y0) * (1 - fx) + at(x0 + 1, y0) * fx) * (1 - fy) + (at(x0, y0 + 1) * (1 - fx) + at(x0 + 1, y0 + 1) * fx) * fy;
+}
+
+Texture read_texture(const std::filesystem::path& file) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(file, ec)) throw InputError(file.string(), "", "texture file not found");
+  auto in = OIIO::ImageInput::open(file.string());
+  if (!in) throw InputError(file.string(), "", "cannot read texture: " + OIIO::geterror());
+  const OIIO::ImageSpec& spec = in->spec();
+  Texture t;
+  t.file = file.string();
+  t.width = spec.width;
+  t.height = spec.height;
+  int nc = spec.nchannels;
+  std::vector<float> px(static_cast<size_t>(t.width) * t.height * nc);
+  if (!in->read_image(0, 0, 0, nc, OIIO::TypeDesc::FLOAT, px.data()))
+    throw InputError(file.string(), "", "cannot read texture pixels: " + in->geterror());
+  t.texels.resize(static_cast<size_t>(t.width) * t.height);
+  for (size_t i = 0; i < t.texels.size(); ++i) {
+    float v = nc >= 3 ? 0.2126f * px[i * nc] + 0.7152f * px[i * nc + 1] + 0.0722f * px[i * nc + 2] : px[i * nc];
+    if (!std::isfinite(v) || v < 0) throw InputError(file.string(), "pixel " + std::to_string(i), "texture value is negative or not finite");
+    t.texels[i] = v;
+  }
+  return t;
+}
+
+}  // namespace ofl
