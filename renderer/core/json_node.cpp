@@ -180,8 +180,9 @@ JsonFile JsonFile::load(const std::filesystem::path& file) {
       if (text[i] == '\n') { ++line; col = 1; } else { ++col; }
     }
     std::string msg = e.what();
-    auto cut = msg.find("]: ");
-    if (cut != std::string::npos) msg = msg.substr(cut + 3);
+    // Drop nlohmann's "[json.exception...] parse error at line L, column C: " prefix.
+    if (auto at = msg.find(", column "); at != std::string::npos)
+      if (auto cut = msg.find(": ", at); cut != std::string::npos) msg = msg.substr(cut + 2);
     throw InputError(file.string(), "line " + std::to_string(line) + " column " + std::to_string(col),
                      "malformed JSON: " + msg);
   }

@@ -1,0 +1,30 @@
+// The renderer against closed-form answers (DESIGN.md section 7): each case below 1 % mean
+// relative error at the stated samples per pixel, and a per-pixel error that falls like 1/sqrt(spp).
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "renderer/bench/closed_form_cases.h"
+
+using namespace ofl;
+
+class ClosedForm : public ::testing::TestWithParam<const char*> {};
+
+TEST_P(ClosedForm, MeanRelativeErrorBelowOnePercentAt256Spp) {
+  BenchResult r = run_bench_case(GetParam(), 256, 1);
+  EXPECT_LT(r.mean_rel_error, 0.01) << r.to_json().dump();
+  // The region means average many pixels: even the worst region and band stays within 3 %.
+  EXPECT_LT(r.max_rel_error, 0.03) << r.to_json().dump();
+}
+
+TEST_P(ClosedForm, ErrorFallsLikeInverseSqrtSpp) {
+  // 16x more samples: per-pixel RMS error 4x smaller; allow 3.4x..4.7x (the RMS over thousands of
+  // pixel-bands is itself accurate to a few percent).
+  BenchResult lo = run_bench_case(GetParam(), 8, 3);
+  BenchResult hi = run_bench_case(GetParam(), 128, 3);
+  double ratio = lo.rms_pixel_rel_error / hi.rms_pixel_rel_error;
+  EXPECT_GT(ratio, 3.4) << lo.rms_pixel_rel_error << " -> " << hi.rms_pixel_rel_error;
+  EXPECT_LT(ratio, 4.7) << lo.rms_pixel_rel_error << " -> " << hi.rms_pixel_rel_error;
+}
+
+INSTANTIATE_TEST_SUITE_P(Cases, ClosedForm, ::testing::Values("lambert_point_led", "disk_led", "closed_sphere"));

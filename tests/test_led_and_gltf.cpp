@@ -1,0 +1,136 @@
+// LED angular profiles and flux, and glTF loading with node transforms.
+#include <gtest/gtest.h>
+
+#include <tiny_gltf.h>
+
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "renderer/core/error.h"
+#include "renderer/core/json_node.h"
+#include "renderer/scene/led_light.h"
+#include "renderer/scene/triangle_mesh.h"
+#include "renderer/spectral/units.h"
+
+using namespace ofl;
+
+TEST(LedProfile, HalfAngleGivesHalfIntensity) {
+  for (double half : {10.0, 30.0, 60.0}) {
+    LedProfile p;
+    p.cos_power = LedProfile::cos_power_from_half_angle(half);
+    EXPECT_NEAR(p.eval(std::cos(half * kPi / 180)), 0.5, 1e-12);
+  }
+  LedProfile lam;
+  lam.cos_power = 1;
+  EXPECT_NEAR(LedProfile::cos_power_from_half_angle(60), 1.0, 1e-12);  // Lambertian: 60 deg
+  EXPECT_NEAR(lam.solid_angle_integral(), kPi, 1e-12);
+}
+
+TEST(LedProfile, TableOfCosPowerIntegratesLikeTheFormula) {
+  // A finely tabulated cos^3 profile has the solid-angle integral 2 pi / 4.
+  nlohmann::json rows = nlohmann::json::array();
+  for (int a = 0; a <= 90; ++a) rows.push_back({a, std::pow(std::cos(a * kPi / 180), 3)});
+  nlohmann::json led = {{"spd", 1.0}, {"flux_W", 2.0}, {"profile", {{"table", rows}}}, {"position", {0, 0, 0}}, {"axis", {0, 0, 1}}};
+  JsonFile f = JsonFile::from(led, "led");
+  WavelengthGrid g{400, 700, 10};
+  LedLight l = parse_led(f.root(), g);
+  EXPECT_NEAR(l.profile.solid_angle_integral(), 2 * kPi / 4, 2e-3);
+  // Flux -> intensity: I0 = flux / integral P d omega.
+  EXPECT_NEAR(l.intensity_W_sr, 2.0 / (2 * kPi / 4), 5e-3);
+  EXPECT_NEAR(l.power_W, 2.0, 1e-9);
+}
+
+TEST(LedLight, ShortPassFilterRemovesPower) {
+  nlohmann::json led = {{"spd", {{"type", "gaussian"}, {"peak_nm", 450}, {"fwhm_nm", 20}}}, {"radiant_intensity_W_sr", 1.0},
+                        {"filter", {{"type", "shortpass"}, {"edge_nm", 450}, {"width_nm", 0.1}, {"od", 6}, {"peak", 1.0}}},
+                        {"position", {0, 0, 0}}, {"target", {0, 0, -1}}};
+  JsonFile f = JsonFile::from(led, "led");
+  LedLight l = parse_led(f.root(), WavelengthGrid{350, 830, 1});
+  EXPECT_NEAR(l.intensity_W_sr, 0.5, 0.02);  // half of a symmetric line passes a sharp edge at its peak
+}
+
+namespace {
+// A one-triangle glTF whose node has translation, rotation and scale.
+std::filesystem::path write_triangle_gltf() {
+  tinygltf::Model m;
+  std::vector<float> pos = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+  tinygltf::Buffer buf;
+  buf.data.resize(pos.size() * 4);
+  std::memcpy(buf.data.data(), pos.data(), buf.data.size());
+  m.buffers.push_back(buf);
+  tinygltf::BufferView bv;
+  bv.buffer = 0;
+  bv.byteLength = buf.data.size();
+  m.bufferViews.push_back(bv);
+  tinygltf::Accessor acc;
+  acc.bufferView = 0;
+  acc.componentType = TINYGLTF_COMPONENT_TYPE_FLOAT;
+  acc.count = 3;
+  acc.type = TINYGLTF_TYPE_VEC3;
+  acc.minValues = {0, 0, 0};
+  acc.maxValues = {1, 1, 0};
+  m.accessors.push_back(acc);
+  tinygltf::Material mat;
+  mat.name = "tongue";
+  m.materials.push_back(mat);
+  tinygltf::Primitive prim;
+  prim.attributes["POSITION"] = 0;
+  prim.material = 0;
+  prim.mode = TINYGLTF_MODE_TRIANGLES;
+  tinygltf::Mesh mesh;
+  mesh.primitives.push_back(prim);
+  m.meshes.push_back(mesh);
+  tinygltf::Node parent, child;
+  parent.translation = {1, 2, 3};
+  parent.children = {1};
+  child.mesh = 0;
+  child.scale = {2, 2, 2};
+  child.rotation = {0, 0, std::sin(kPi / 4), std::cos(kPi / 4)};  // 90 deg about z
+  m.nodes = {parent, child};
+  tinygltf::Scene s;
+  s.nodes = {0};
+  m.scenes.push_back(s);
+  m.defaultScene = 0;
+  auto file = std::filesystem::temp_directory_path() / "ofl_triangle.glb";
+  tinygltf::TinyGLTF w;
+  w.WriteGltfSceneToFile(&m, file.string(), true, true, false, true);
+  return file;
+}
+}  // namespace
+
+TEST(Gltf, NodeTransformsAreApplied) {
+  auto file = write_triangle_gltf();
+  auto meshes = load_gltf(file, glm::dmat4(1.0));
+  ASSERT_EQ(meshes.size(), 1u);
+  const auto& m = meshes[0];
+  EXPECT_EQ(m.material_name, "tongue");
+  // (1,0,0) -> scale 2 -> rotate 90 about z -> (0,2,0) -> translate -> (1,4,3).
+  EXPECT_NEAR(m.positions[1].x, 1.0, 1e-6);
+  EXPECT_NEAR(m.positions[1].y, 4.0, 1e-6);
+  EXPECT_NEAR(m.positions[1].z, 3.0, 1e-6);
+  EXPECT_NEAR(m.surface_area(), 0.5 * 4, 1e-6);
+  // A scene-file transform on top scales the area by s^2.
+  auto scaled = load_gltf(file, glm::scale(glm::dmat4(1.0), glm::dvec3(0.01)));
+  EXPECT_NEAR(scaled[0].surface_area(), 2e-4, 1e-10);
+}
+
+TEST(Gltf, BenchmarkMeshHasTheStatedTriangleCount) {
+  auto meshes = load_gltf(std::filesystem::path(OFL_SOURCE_DIR) / "benchmarks/scenes/tongue_mouth.glb", glm::dmat4(1.0));
+  size_t tris = 0;
+  for (auto& m : meshes) tris += m.triangle_count();
+  EXPECT_EQ(tris, 197948u);
+}
+
+TEST(Gltf, BrokenFileIsAnInputError) {
+  auto f = std::filesystem::temp_directory_path() / "ofl_broken.gltf";
+  std::ofstream(f) << "{\"asset\": {\"version\": \"2.0\"}, \"meshes\": [{\"primitives\": [{\"attributes\": {\"POSITION\": 5}}]}]}";
+  try {
+    load_gltf(f, glm::dmat4(1.0));
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.file(), f.string());
+  }
+}
