@@ -4,6 +4,7 @@
 // band (bias plus the noise left after averaging the region), and the RMS per-pixel relative error
 // (noise), which should fall like 1/sqrt(spp).
 #pragma once
+#include <cstdint>
 #include <functional>
 #include <string>
 #include <vector>
@@ -25,6 +26,7 @@ struct BenchResult {
   double mean_rel_error = 0;     // mean over regions and bands
   double max_rel_error = 0;      // worst region and band
   double rms_pixel_rel_error = 0;
+  nlohmann::json extra = nlohmann::json::object();  // case-specific numbers
   double seconds = 0;
   double camera_samples_per_second = 0;
   std::vector<BenchRegion> regions;
@@ -38,7 +40,21 @@ struct BenchCaseInfo {
 };
 
 std::vector<BenchCaseInfo> bench_cases();
-// Runs one case; throws InputError for an unknown name. `seed` changes the random streams.
-BenchResult run_bench_case(const std::string& name, int spp, uint64_t seed = 1);
+struct BenchOptions {
+  int spp = 64;
+  uint64_t seed = 1;
+  bool sampled_excitation = false;  // sample excitation wavelengths instead of summing them
+};
+
+// Runs one case; throws InputError for an unknown name.
+BenchResult run_bench_case(const std::string& name, const BenchOptions& options);
+inline BenchResult run_bench_case(const std::string& name, int spp, uint64_t seed = 1) {
+  return run_bench_case(name, BenchOptions{spp, seed, false});
+}
+
+// Fluorescent cases (fluorescence_cases.cpp).
+BenchResult fluorescent_patch(const BenchOptions& o, bool narrow_385);
+BenchResult fluorescent_sphere(const BenchOptions& o);
+BenchResult reradiation_only(const BenchOptions& o);
 
 }  // namespace ofl

@@ -14,7 +14,7 @@ void register_bench_command(CLI::App& app) {
     std::string name;
     int spp = 0;
     uint64_t seed = 1;
-    bool json = false, list = false;
+    bool json = false, list = false, sampled = false;
   };
   auto o = std::make_shared<Opts>();
   auto* cmd = app.add_subcommand("bench", "accuracy of the renderer against closed-form cases");
@@ -23,6 +23,7 @@ void register_bench_command(CLI::App& app) {
   cmd->add_option("--spp", o->spp, "samples per pixel (default: the case's)")->check(CLI::Range(1, 1 << 20));
   cmd->add_option("--seed", o->seed, "random seed");
   cmd->add_flag("--json", o->json, "print one JSON object");
+  cmd->add_flag("--sampled-excitation", o->sampled, "sample excitation wavelengths in next-event estimation instead of summing them");
   cmd->callback([o] {
     if (o->list || o->name.empty()) {
       for (auto& c : bench_cases()) std::printf("%-22s %s (default %d spp)\n", c.name.c_str(), c.description.c_str(), c.default_spp);
@@ -34,14 +35,14 @@ void register_bench_command(CLI::App& app) {
         if (c.name == o->name) spp = c.default_spp;
     if (spp == 0) spp = 64;
     if (o->json) {
-      std::printf("%s\n", run_bench_case(o->name, spp, o->seed).to_json().dump(2).c_str());
+      std::printf("%s\n", run_bench_case(o->name, BenchOptions{spp, o->seed, o->sampled}).to_json().dump(2).c_str());
       return;
     }
     std::vector<int> series;
     for (int s : {spp / 16, spp / 4, spp})
       if (s >= 1 && (series.empty() || s != series.back())) series.push_back(s);
     std::vector<BenchResult> rs;
-    for (int s : series) rs.push_back(run_bench_case(o->name, s, o->seed));
+    for (int s : series) rs.push_back(run_bench_case(o->name, BenchOptions{s, o->seed, o->sampled}));
     std::printf("case %s: relative error of the region-mean radiance (mean over bands)\n\n%-16s %8s", o->name.c_str(), "region", "pixels");
     for (auto& r : rs) std::printf("  %5d spp", r.spp);
     std::printf("\n");

@@ -1,5 +1,7 @@
 #include "renderer/render/path_tracer.h"
 
+#include "renderer/render/albedo_matrix.h"
+
 #include <algorithm>
 #include <cmath>
 
@@ -34,53 +36,11 @@ PathTracer::Ray PathTracer::camera_ray(int x, int y, Rng& rng) const {
 
 namespace {
 
-// Per-vertex view of a material: concentrations after textures, for the lanes to look up.
-struct LocalMaterial {
-  const MaterialTables* m;
-  float rscale = 1;
-  int nf = 0;
-  float conc[16];
-};
-
-// Total fluorescent in-scatter F(em) = sum_j c_j F_j(em).
-inline float fluor_total(const LocalMaterial& lm, int em) {
-  float s = 0;
-  for (int j = 0; j < lm.nf; ++j) s += lm.conc[j] * lm.m->fluorophores[j].row_sum[em];
-  return s;
-}
-
-// Samples an excitation index for emission index em from sum_j c_j phi_j(em, .).
-inline int sample_excitation(const LocalMaterial& lm, int em, float total, float u, int n) {
-  float target = u * total;
-  int j = 0;
-  for (; j < lm.nf - 1; ++j) {
-    float w = lm.conc[j] * lm.m->fluorophores[j].row_sum[em];
-    if (target < w) break;
-    target -= w;
-  }
-  const FluorophoreTables& f = lm.m->fluorophores[j];
-  float w = lm.conc[j] * f.row_sum[em];
-  float uu = w > 0 ? std::clamp(target / w, 0.0f, 0.99999994f) : u;
-  const float* cdf = f.row_cdf.data() + size_t(em) * n;
-  int ex = int(std::upper_bound(cdf, cdf + em, uu) - cdf);
-  return std::min(ex, std::max(em - 1, 0));
-}
-
-// One albedo-matrix step for a lane at wavelength `wl`: reflect (stay) or re-radiate (move to an
-// excitation wavelength); returns the weight R + F (the row sum of the albedo matrix).
-inline float albedo_step(const LocalMaterial& lm, int& wl, Rng& rng, int n) {
-  float r = lm.m->reflectance[wl] * lm.rscale;
-  float f = lm.nf ? fluor_total(lm, wl) : 0.0f;
-  float tot = r + f;
-  if (f > 0 && rng.next_float() * tot >= r) wl = sample_excitation(lm, wl, f, rng.next_float(), n);
-  return tot;
-}
-
 inline double power_heuristic(double a, double b) { return a * a / (a * a + b * b); }
 
 }  // namespace
 
-void PathTracer::sample_pixel(int x, int y, Rng& rng, double* bands, RayCounts& counts, RayLog* log) const {
+double PathTracer::sample_pixel(int x, int y, Rng& rng, double* bands, RayCounts& counts, RayLog* log) const {
   const int n = t_.n;
   const bool deterministic = scene_.integrator.direct_excitation == IntegratorSpec::DirectExcitation::kDeterministic;
   auto record = [&](const glm::dvec3& o, const glm::dvec3& d, float tmax, bool shadow) {
@@ -256,11 +216,16 @@ void PathTracer::sample_pixel(int x, int y, Rng& rng, double* bands, RayCounts& 
     counts.extension++;
   }
 
+  double total = 0;
   for (int k = 0; k < kLanes; ++k) {
     if (L[k] == 0) continue;
     double v = double(L[k]) * t_.film_scale[film[k]] / kLanes;
-    for (const auto& bw : t_.band_weights[film[k]]) bands[bw.band] += bw.weight * v;
+    for (const auto& bw : t_.band_weights[film[k]]) {
+      bands[bw.band] += bw.weight * v;
+      total += bw.weight * v;
+    }
   }
+  return total;
 }
 
 }  // namespace ofl

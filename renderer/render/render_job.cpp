@@ -52,12 +52,7 @@ RenderResult render(const Scene& scene, const RenderOptions& opt) {
             double h0 = 0, h1 = 0;
             for (int s = done; s < done + pass; ++s) {
               Rng rng(seed, Rng::stream_for(pixel, s));
-              double before = 0;
-              for (int b = 0; b < B; ++b) before += acc[b];
-              tracer.sample_pixel(x, y, rng, acc.data(), local, opt.ray_log);
-              double after = 0;
-              for (int b = 0; b < B; ++b) after += acc[b];
-              ((s & 1) ? h1 : h0) += after - before;
+              ((s & 1) ? h1 : h0) += tracer.sample_pixel(x, y, rng, acc.data(), local, opt.ray_log);
             }
             double* dst = sum.data() + pixel * B;
             for (int b = 0; b < B; ++b) dst[b] += acc[b];
