@@ -1,5 +1,6 @@
 // {"type": "fluorescent", "reflectance": <spectrum>, "fluorophores": [layer, ...]} with a layer
 //   {"name": "FAD", "concentration": 0.02, "texture": "map.png"}       library fluorophore
+//   "texture": {"file": "lesion.png", "offset": 1, "scale": -0.5}     factor = offset + scale * texel
 //   {"eem": "my_eem.csv", "concentration": 1.0, "normalise": false}    EEM matrix file (absolute
 //                                                                      units unless normalised)
 //   {"fluorophore": "my.json", ...}                                     sidecar like the library's
@@ -56,7 +57,16 @@ std::vector<FluorophoreLayer> parse_fluorophore_layers(const JsonNode& list, Mat
     }
     layer.eem = it->second;
     layer.concentration = f.at("concentration").number(0.0, 1.0);
-    if (auto t = f.find("texture")) layer.texture = load_texture(*t, ctx);
+    if (auto t = f.find("texture")) {
+      if (t->is_object()) {
+        t->check_keys({"file", "offset", "scale"});
+        layer.texture = load_texture(t->at("file"), ctx);
+        layer.texture_offset = t->number_or("offset", 0.0, -1e3, 1e3);
+        layer.texture_scale = t->number_or("scale", 1.0, -1e3, 1e3);
+      } else {
+        layer.texture = load_texture(*t, ctx);
+      }
+    }
     out.push_back(layer);
   }
   return out;

@@ -4,6 +4,7 @@
 // optional Lambertian emission. The JSON types that build it (lambertian, fluorescent, coated,
 // tissue, teeth) each live in their own file in this folder; see material_parser.h.
 #pragma once
+#include <algorithm>
 #include <string>
 #include <vector>
 
@@ -16,7 +17,10 @@ struct FluorophoreLayer {
   int eem = -1;
   double concentration = 0;
   int texture = -1;
+  double texture_offset = 0;  // concentration factor = max(0, offset + scale * texel)
+  double texture_scale = 1;
   std::string name;
+  double factor(float texel) const { return std::max(0.0, texture_offset + texture_scale * texel); }
 };
 
 // Wet-tissue coating: a smooth-to-rough dielectric interface (GGX microfacets, Fresnel) over the

@@ -17,9 +17,16 @@ AlbedoCheck photon_albedo_check(const Material& m, const std::vector<GridEem>& e
   std::vector<double> a(N, 0.0);
   double rscale = max_tex(m.reflectance_texture);
   for (int i = 0; i < N; ++i) a[i] = m.reflectance[i] * rscale;
+  // Largest concentration factor a fluorophore's texture can give.
+  auto max_factor = [&](const FluorophoreLayer& f) {
+    if (f.texture < 0) return 1.0;
+    double m = 0;
+    for (float t : textures[f.texture].texels) m = std::max(m, f.factor(t));
+    return m;
+  };
   for (auto& f : m.fluorophores) {
     auto pa = eems[f.eem].photon_albedo();
-    double c = f.concentration * max_tex(f.texture);
+    double c = f.concentration * max_factor(f);
     for (int i = 0; i < N; ++i) a[i] += c * pa[i];
   }
   if (!m.base_transmittance.empty()) {
@@ -27,7 +34,7 @@ AlbedoCheck photon_albedo_check(const Material& m, const std::vector<GridEem>& e
     for (int ex = 0; ex < N; ++ex) {
       double s = m.reflectance[ex] * rscale * m.base_transmittance[ex];
       for (auto& f : m.fluorophores) {
-        double c = f.concentration * max_tex(f.texture);
+        double c = f.concentration * max_factor(f);
         for (int em = ex + 1; em < N; ++em) s += c * eems[f.eem].at(em, ex) * grid.step_nm * m.base_transmittance[em];
       }
       a[ex] = m.base_transmittance[ex] * s;
@@ -45,7 +52,9 @@ Material parse_material(const std::string& name, const JsonNode& n, MaterialCont
   if (type == "lambertian") m = parse_lambertian(n, ctx);
   else if (type == "fluorescent") m = parse_fluorescent(n, ctx);
   else if (type == "coated") m = parse_coated(n, ctx);
-  else n.at("type").fail("unknown material type \"" + type + "\" (expected lambertian, fluorescent, coated)");
+  else if (type == "tissue") m = parse_tissue(n, ctx);
+  else if (type == "teeth") m = parse_tissue(n, ctx, "teeth");
+  else n.at("type").fail("unknown material type \"" + type + "\" (expected lambertian, fluorescent, coated, tissue, teeth)");
   m.name = name;
   AlbedoCheck c = photon_albedo_check(m, *ctx.eems, *ctx.textures, ctx.grid);
   if (c.max_albedo > 1.0 + 1e-9) {

@@ -35,6 +35,8 @@ Material parse_material(const std::string& name, const JsonNode& node, MaterialC
 Material parse_lambertian(const JsonNode& node, MaterialContext& ctx);
 Material parse_fluorescent(const JsonNode& node, MaterialContext& ctx);
 Material parse_coated(const JsonNode& node, MaterialContext& ctx);
+// `forced_preset` non-empty for the "teeth" alias.
+Material parse_tissue(const JsonNode& node, MaterialContext& ctx, const std::string& forced_preset = "");
 
 // Common pieces used by several types.
 std::vector<double> parse_reflectance(const JsonNode& node, const WavelengthGrid& grid);

@@ -101,7 +101,9 @@ double PathTracer::sample_pixel(int x, int y, Rng& rng, double* bands, RayCounts
     lm.nf = std::min<int>(int(mt.fluorophores.size()), 16);
     for (int j = 0; j < lm.nf; ++j) {
       const auto& f = mt.fluorophores[j];
-      lm.conc[j] = f.concentration * (f.texture >= 0 ? scene_.textures[f.texture].lookup(sp.uv.x, sp.uv.y) : 1.0f);
+      float factor = 1.0f;
+      if (f.texture >= 0) factor = std::max(0.0f, f.texture_offset + f.texture_scale * scene_.textures[f.texture].lookup(sp.uv.x, sp.uv.y));
+      lm.conc[j] = f.concentration * factor;
     }
 
     Frame frame(sp.ns);

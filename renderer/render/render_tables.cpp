@@ -48,6 +48,8 @@ RenderTables::RenderTables(const Scene& sc, const std::vector<double>& importanc
         if (f.concentration <= 0) continue;
         FluorophoreTables ft;
         ft.texture = f.texture;
+        ft.texture_offset = float(f.texture_offset);
+        ft.texture_scale = float(f.texture_scale);
         ft.concentration = float(f.concentration);
         const GridEem& e = sc.eems[f.eem];
         ft.phi.assign(size_t(n) * n, 0.0f);

@@ -14,6 +14,7 @@ namespace ofl {
 
 struct FluorophoreTables {
   int texture = -1;
+  float texture_offset = 0, texture_scale = 1;  // factor = max(0, offset + scale * texel)
   float concentration = 0;
   std::vector<float> phi;        // N x N, row em, already scaled by dlambda and any layer transmittance
   std::vector<float> row_sum;    // F(em) = sum_ex phi(em, ex)
