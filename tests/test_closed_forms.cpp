@@ -27,4 +27,9 @@ TEST_P(ClosedForm, ErrorFallsLikeInverseSqrtSpp) {
   EXPECT_LT(ratio, 4.7) << lo.rms_pixel_rel_error << " -> " << hi.rms_pixel_rel_error;
 }
 
+TEST(ClosedFormAov, IrradiancePlaneIsExact) {
+  BenchResult r = run_bench_case("lambert_point_led", 4, 1);
+  EXPECT_LT(r.extra["aov_irradiance_max_rel_error"].get<double>(), 1e-4);
+}
+
 INSTANTIATE_TEST_SUITE_P(Cases, ClosedForm, ::testing::Values("lambert_point_led", "disk_led", "closed_sphere"));

@@ -153,6 +153,8 @@ TEST(FluorescentClosedForm, PatchUnderBroadbandAndNarrow385Led) {
     BenchResult r = run_bench_case(c, 256, 1);
     EXPECT_LT(r.mean_rel_error, 0.01) << r.to_json().dump();
     EXPECT_GT(r.extra["fluorescence_share_of_radiance"].get<double>(), 0.05) << c;  // the case really tests fluorescence
+    // The separate fluorescence layer matches the fluorescent part of the closed form.
+    EXPECT_LT(r.extra["fluorescence_layer_max_band_error"].get<double>(), 0.02) << c;
   }
 }
 

@@ -71,8 +71,10 @@ TEST(SpectralExr, ChannelNamesAndAttributesExactly) {
   EXPECT_EQ(units->value(), "W.m^-2.sr^-1");
   std::set<std::string> names;
   for (auto it = h.channels().begin(); it != h.channels().end(); ++it) names.insert(it.name());
-  // Default output bands: 400-700 nm every 10 nm -> 31 spectral channels plus R, G, B.
-  EXPECT_EQ(names.size(), 31u + 3u);
+  // Default output bands: 400-700 nm every 10 nm -> 31 spectral channels plus R, G, B, plus the
+  // six aov.* planes (this scene has no fluorescence, so no fluorescence layer).
+  EXPECT_EQ(names.size(), 31u + 3u + 6u);
+  for (const char* a : {"aov.material", "aov.u", "aov.v", "aov.depth", "aov.cos_view", "aov.irradiance"}) EXPECT_TRUE(names.count(a)) << a;
   for (int nm = 400; nm <= 700; nm += 10) EXPECT_TRUE(names.count("S0." + std::to_string(nm) + ",000000nm")) << nm;
   for (const char* c : {"R", "G", "B"}) EXPECT_TRUE(names.count(c));
   EXPECT_EQ(spectral_channel_name(550.0), "S0.550,000000nm");

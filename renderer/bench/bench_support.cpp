@@ -29,7 +29,7 @@ std::vector<double> to_bands(const Scene& sc, const std::vector<double>& grid_va
 }
 
 // Pinhole camera ray through image position (sx, sy) in pixels.
-static glm::dvec3 pinhole_dir(const CameraSpec& c, double px, double py) {
+glm::dvec3 pinhole_dir(const CameraSpec& c, double px, double py) {
   glm::dvec3 f = glm::normalize(c.look_at - c.position);
   glm::dvec3 r = glm::normalize(glm::cross(f, c.up));
   glm::dvec3 u = glm::cross(r, f);

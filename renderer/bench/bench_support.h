@@ -48,6 +48,8 @@ struct Rendered {
 Rendered render_json(const nlohmann::json& j, const std::string& name);
 BenchResult finish(BenchResult b, const Rendered& r, const BenchOptions& o);
 
+// Direction of the pinhole camera's ray through image position (px, py) in pixels.
+glm::dvec3 pinhole_dir(const CameraSpec& c, double px, double py);
 // Pixel of the pinhole camera that sees world point p.
 std::array<int, 2> pixel_of(const CameraSpec& c, const glm::dvec3& p);
 

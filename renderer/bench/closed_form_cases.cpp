@@ -57,6 +57,20 @@ BenchResult lambert_point_led(const BenchOptions& o) {
   int px = int((hit.x / (c.position.z * th) + 1) * 0.5 * c.width), py = int((1 - hit.y / (c.position.z * th)) * 0.5 * c.height);
   auto b = compare("lambert_point_led", sc, r.result.image, ref,
                    {{"on-axis", {px - 4, py - 4, px + 4, py + 4}}, {"whole", {0, 0, c.width, c.height}}});
+  // The irradiance plane (pixel-centre rays, deterministic) against E = I0 P(theta) cos(theta_i) / r^2.
+  const auto& irr = r.result.image.aovs.at("aov.irradiance");
+  double worst = 0;
+  for (int y = 0; y < c.height; ++y)
+    for (int x = 0; x < c.width; ++x) {
+      glm::dvec3 d = pinhole_dir(c, x + 0.5, y + 0.5);
+      glm::dvec3 p = c.position + (-c.position.z / d.z) * d;
+      glm::dvec3 to = p - led.position;
+      double r2 = glm::dot(to, to);
+      glm::dvec3 w = to / std::sqrt(r2);
+      double e = led.intensity_W_sr * led.profile.eval(glm::dot(w, led.axis)) * (-w.z) / r2;
+      worst = std::max(worst, std::fabs(irr[size_t(y) * c.width + x] - e) / e);
+    }
+  b.extra["aov_irradiance_max_rel_error"] = worst;
   return finish(b, r, o);
 }
 

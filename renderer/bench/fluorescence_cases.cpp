@@ -2,6 +2,7 @@
 // units, so the references are computed in photons and converted to W at the end:
 //   patch:  L_q(em) = [R(em) E_q(em) + sum_ex Phi(em, ex) E_q(ex) dlambda] / pi
 //   sphere: L_q = (I - A)^-1 Le_q with A = diag(R) + Phi dlambda.
+#include <algorithm>
 #include <cmath>
 
 #include <Eigen/Dense>
@@ -75,6 +76,24 @@ BenchResult fluorescent_patch(const BenchOptions& o, bool narrow) {
   auto px = pixel_of(sc.camera, led.position + (-led.position.z / a.z) * a);
   auto b = compare(name, sc, r.result.image, ref,
                    {{"on-axis", {px[0] - 4, px[1] - 4, px[0] + 4, px[1] + 4}}, {"whole", {0, 0, sc.camera.width, sc.camera.height}}});
+  // The fluorescence layer against the fluorescent part of the closed form, whole image.
+  {
+    auto fb = to_bands(sc, photons_to_watts(sc, (phi * Eq) / kPi));
+    const auto& img = r.result.image;
+    int B = img.bands();
+    std::vector<double> m(B, 0.0), mr(B, 0.0);
+    for (size_t p = 0; p < size_t(img.width) * img.height; ++p) {
+      if (!ref.valid[p]) continue;
+      double scale = 0;  // geometric factor of this pixel = ref / lb for any band with lb > 0
+      for (int k = 0; k < B; ++k)
+        if (lb[k] > 0) { scale = ref.L[p * B + k] / lb[k]; break; }
+      for (int k = 0; k < B; ++k) { m[k] += img.fluorescence.empty() ? 0.0 : img.fluorescence[p * B + k]; mr[k] += fb[k] * scale; }
+    }
+    double worst = 0;
+    for (int k = 0; k < B; ++k)
+      if (mr[k] > 1e-3 * *std::max_element(mr.begin(), mr.end())) worst = std::max(worst, std::fabs(m[k] - mr[k]) / mr[k]);
+    b.extra["fluorescence_layer_max_band_error"] = worst;
+  }
   // Share of the signal that is fluorescence, to show what the case tests.
   double fl = 0, tot = 0;
   for (int i = 0; i < n; ++i) {

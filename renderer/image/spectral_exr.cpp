@@ -75,6 +75,11 @@ void write_spectral_exr(const std::filesystem::path& file, const SpectralImage& 
   for (double nm : img.band_nm) names.push_back(spectral_channel_name(nm));
   for (auto& n : names) header.channels().insert(n, Imf::Channel(Imf::FLOAT));
   for (const char* c : {"R", "G", "B"}) header.channels().insert(c, Imf::Channel(Imf::FLOAT));
+  const bool has_fl = img.fluorescence.size() == img.data.size();
+  if (has_fl)
+    for (auto& n : names) header.channels().insert("fluorescence." + n, Imf::Channel(Imf::FLOAT));
+  for (auto& [name, plane] : img.aovs)
+    if (plane.size() == size_t(img.width) * img.height) header.channels().insert(name, Imf::Channel(Imf::FLOAT));
 
   Imf::FrameBuffer fb;
   size_t px = sizeof(float) * img.bands();
@@ -83,6 +88,12 @@ void write_spectral_exr(const std::filesystem::path& file, const SpectralImage& 
   const char* rgbn[3] = {"R", "G", "B"};
   for (int c = 0; c < 3; ++c)
     fb.insert(rgbn[c], Imf::Slice(Imf::FLOAT, (char*)(rgb.data() + c), 3 * sizeof(float), 3 * sizeof(float) * img.width));
+  if (has_fl)
+    for (int b = 0; b < img.bands(); ++b)
+      fb.insert("fluorescence." + names[b], Imf::Slice(Imf::FLOAT, (char*)(img.fluorescence.data() + b), px, px * img.width));
+  for (auto& [name, plane] : img.aovs)
+    if (plane.size() == size_t(img.width) * img.height)
+      fb.insert(name, Imf::Slice(Imf::FLOAT, (char*)plane.data(), sizeof(float), sizeof(float) * img.width));
   try {
     std::filesystem::path tmp = file;
     tmp += ".partial";
@@ -108,10 +119,15 @@ SpectralImage read_spectral_exr(const std::filesystem::path& file) {
     img.width = dw.max.x - dw.min.x + 1;
     img.height = dw.max.y - dw.min.y + 1;
     std::vector<std::pair<double, std::string>> chans;
+    std::vector<std::string> aov_names;
+    bool has_fl = true;
     for (auto it = h.channels().begin(); it != h.channels().end(); ++it) {
       double nm;
-      if (parse_spectral_channel_name(it.name(), &nm)) chans.push_back({nm, it.name()});
+      std::string name = it.name();
+      if (parse_spectral_channel_name(name, &nm)) chans.push_back({nm, name});
+      else if (name.rfind("aov.", 0) == 0) aov_names.push_back(name);
     }
+    for (auto& c : chans) has_fl = has_fl && h.channels().findChannel("fluorescence." + c.second);
     if (chans.empty())
       throw InputError(file.string(), "channels", "no spectral channels (expected names like S0.550,000000nm)");
     std::sort(chans.begin(), chans.end());
@@ -125,6 +141,18 @@ SpectralImage read_spectral_exr(const std::filesystem::path& file) {
     char* base = (char*)img.data.data() - (static_cast<ptrdiff_t>(dw.min.x) + static_cast<ptrdiff_t>(dw.min.y) * img.width) * px;
     for (int b = 0; b < img.bands(); ++b)
       fb.insert(chans[b].second, Imf::Slice(Imf::FLOAT, base + b * sizeof(float), px, px * img.width));
+    if (has_fl && !chans.empty()) {
+      img.fluorescence.assign(img.data.size(), 0.0f);
+      char* fbase = (char*)img.fluorescence.data() - (static_cast<ptrdiff_t>(dw.min.x) + static_cast<ptrdiff_t>(dw.min.y) * img.width) * px;
+      for (int b = 0; b < img.bands(); ++b)
+        fb.insert("fluorescence." + chans[b].second, Imf::Slice(Imf::FLOAT, fbase + b * sizeof(float), px, px * img.width));
+    }
+    for (auto& name : aov_names) {
+      auto& plane = img.aovs[name];
+      plane.assign(size_t(img.width) * img.height, 0.0f);
+      char* abase = (char*)plane.data() - (static_cast<ptrdiff_t>(dw.min.x) + static_cast<ptrdiff_t>(dw.min.y) * img.width) * sizeof(float);
+      fb.insert(name, Imf::Slice(Imf::FLOAT, abase, sizeof(float), sizeof(float) * img.width));
+    }
     in.setFrameBuffer(fb);
     in.readPixels(dw.min.y, dw.max.y);
   } catch (const InputError&) {

@@ -2,6 +2,8 @@
 // Spectral Images", JCGT 10(3), 2021: one FLOAT channel per band named "S0.<nm>nm" with the decimal
 // point written as a comma ("S0.550,000000nm"), header attributes spectralLayoutVersion = "1.0"
 // and emissiveUnits = "W.m^-2.sr^-1", plus R, G, B channels (linear sRGB) for ordinary viewers.
+// oralfluor adds an optional layer "fluorescence" (the fluorescent part of the radiance, channels
+// fluorescence.S0.<nm>) and single-channel per-pixel planes "aov.*" (material, irradiance, ...).
 #pragma once
 #include <filesystem>
 #include <string>

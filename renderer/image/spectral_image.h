@@ -12,6 +12,11 @@ struct SpectralImage {
   std::vector<double> band_nm;   // band centres, increasing
   std::vector<float> data;       // row-major pixels, bands contiguous: ((y * width + x) * bands + b)
   std::map<std::string, std::string> attributes;  // extra header strings (scene, spp, camera...)
+  // Optional: the part of the radiance that is fluorescence (same layout as data), written as the
+  // EXR layer "fluorescence" (channels fluorescence.S0.<nm>).
+  std::vector<float> fluorescence;
+  // Optional single-channel planes per pixel ("aov.material", "aov.irradiance", ...).
+  std::map<std::string, std::vector<float>> aovs;
 
   int bands() const { return static_cast<int>(band_nm.size()); }
   float* pixel(int x, int y) { return data.data() + (static_cast<size_t>(y) * width + x) * bands(); }

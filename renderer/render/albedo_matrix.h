@@ -43,12 +43,15 @@ inline int sample_excitation(const LocalMaterial& lm, int em, float total, float
 }
 
 // One albedo-matrix step for a lane at `wl`: reflect (stay) or re-radiate (move to an excitation
-// wavelength); returns the weight R + F.
-inline float albedo_step(const LocalMaterial& lm, int& wl, Rng& rng, int n) {
+// wavelength); returns the weight R + F and sets *reradiated when the lane was re-radiated.
+inline float albedo_step(const LocalMaterial& lm, int& wl, Rng& rng, int n, bool* reradiated = nullptr) {
   float r = lm.m->reflectance[wl] * lm.rscale;
   float f = lm.nf ? fluor_total(lm, wl) : 0.0f;
   float tot = r + f;
-  if (f > 0 && rng.next_float() * tot >= r) wl = sample_excitation(lm, wl, f, rng.next_float(), n);
+  if (f > 0 && rng.next_float() * tot >= r) {
+    wl = sample_excitation(lm, wl, f, rng.next_float(), n);
+    if (reradiated) *reradiated = true;
+  }
   return tot;
 }
 

@@ -40,7 +40,8 @@ inline double power_heuristic(double a, double b) { return a * a / (a * a + b * 
 
 }  // namespace
 
-double PathTracer::sample_pixel(int x, int y, Rng& rng, double* bands, RayCounts& counts, RayLog* log) const {
+double PathTracer::sample_pixel(int x, int y, Rng& rng, double* bands, RayCounts& counts, RayLog* log,
+                                double* fluorescence) const {
   const int n = t_.n;
   const bool deterministic = scene_.integrator.direct_excitation == IntegratorSpec::DirectExcitation::kDeterministic;
   auto record = [&](const glm::dvec3& o, const glm::dvec3& d, float tmax, bool shadow) {
@@ -50,14 +51,16 @@ double PathTracer::sample_pixel(int x, int y, Rng& rng, double* bands, RayCounts
 
   // Camera wavelengths: stratified over the CDF, one uniform offset shared by the lanes.
   int film[kLanes], wl[kLanes];
-  float beta[kLanes], L[kLanes];
+  float beta[kLanes], L[kLanes], Lf[kLanes];
+  bool fl[kLanes];  // the lane's light has been re-radiated (it is fluorescence)
   double u0 = rng.next_double();
   for (int k = 0; k < kLanes; ++k) {
     double u = u0 + double(k) / kLanes;
     if (u >= 1) u -= 1;
     film[k] = wl[k] = t_.wavelength_pdf.sample(u);
     beta[k] = 1;
-    L[k] = 0;
+    L[k] = Lf[k] = 0;
+    fl[k] = false;
   }
 
   Ray ray = camera_ray(x, y, rng);
@@ -81,7 +84,11 @@ double PathTracer::sample_pixel(int x, int y, Rng& rng, double* bands, RayCounts
           w = power_heuristic(prev_pdf, pl);
         }
         const float* shape = t_.light_shape[t_.light_group[gi.index]].data();
-        for (int k = 0; k < kLanes; ++k) L[k] += float(beta[k] * shape[wl[k]] * prof * w);
+        for (int k = 0; k < kLanes; ++k) {
+          float c = float(beta[k] * shape[wl[k]] * prof * w);
+          L[k] += c;
+          if (fl[k]) Lf[k] += c;
+        }
       }
       break;  // the LED body absorbs
     }
@@ -93,7 +100,10 @@ double PathTracer::sample_pixel(int x, int y, Rng& rng, double* bands, RayCounts
     if (glm::dot(sp.ns, wo_w) <= 1e-6) sp.ns = sp.ng;
     const MaterialTables& mt = t_.materials[sp.material];
     if (!mt.emission.empty())
-      for (int k = 0; k < kLanes; ++k) L[k] += beta[k] * mt.emission[wl[k]];
+      for (int k = 0; k < kLanes; ++k) {
+        L[k] += beta[k] * mt.emission[wl[k]];
+        if (fl[k]) Lf[k] += beta[k] * mt.emission[wl[k]];
+      }
     if (depth >= max_depth) break;
 
     LocalMaterial lm{&mt};
@@ -112,13 +122,14 @@ double PathTracer::sample_pixel(int x, int y, Rng& rng, double* bands, RayCounts
     // each lane walks n albedo-matrix steps first (DESIGN: coated.h).
     int wl_base[kLanes];
     float w_base[kLanes];
-    for (int k = 0; k < kLanes; ++k) { wl_base[k] = wl[k]; w_base[k] = 1; }
+    bool fl_base[kLanes];
+    for (int k = 0; k < kLanes; ++k) { wl_base[k] = wl[k]; w_base[k] = 1; fl_base[k] = fl[k]; }
     if (mt.coated) {
       int bounces = 0;
       while (bounces < 64 && rng.next_double() < mt.coating.internal_reflectance) ++bounces;
       for (int b = 0; b < bounces; ++b)
         for (int k = 0; k < kLanes; ++k)
-          if (beta[k] > 0) w_base[k] *= albedo_step(lm, wl_base[k], rng, n);
+          if (beta[k] > 0) w_base[k] *= albedo_step(lm, wl_base[k], rng, n, &fl_base[k]);
     }
     const double p_spec = mt.coated ? std::clamp(mt.coating.specular_albedo(wo.z), 0.1, 0.9) : 0.0;
     auto kernel = [&](const glm::dvec3& wi) {
@@ -161,16 +172,21 @@ double PathTracer::sample_pixel(int x, int y, Rng& rng, double* bands, RayCounts
           for (int k = 0; k < kLanes; ++k) {
             if (beta[k] == 0) continue;
             int b = wl_base[k];
-            double diffuse;
+            double reflected, fluoresced = 0;
             if (deterministic || lm.nf == 0) {
-              diffuse = mt.reflectance[b] * lm.rscale * shape[b];
-              for (int j = 0; j < lm.nf; ++j) diffuse += lm.conc[j] * mt.fluorophores[j].direct[grp][b];
+              reflected = mt.reflectance[b] * lm.rscale * shape[b];
+              for (int j = 0; j < lm.nf; ++j) fluoresced += lm.conc[j] * mt.fluorophores[j].direct[grp][b];
             } else {
               int s = b;
-              float tot = albedo_step(lm, s, rng, n);
-              diffuse = tot * shape[s];
+              bool rr = false;
+              float tot = albedo_step(lm, s, rng, n, &rr);
+              (rr ? fluoresced : reflected) = tot * shape[s];
             }
-            L[k] += float(beta[k] * (fs * shape[wl[k]] + kd * w_base[k] * diffuse) * g * w);
+            double spec = beta[k] * fs * shape[wl[k]] * g * w;
+            double dif_r = beta[k] * kd * w_base[k] * reflected * g * w;
+            double dif_f = beta[k] * kd * w_base[k] * fluoresced * g * w;
+            L[k] += float(spec + dif_r + dif_f);
+            Lf[k] += float((fl[k] ? spec : 0.0) + (fl_base[k] ? dif_r : 0.0) + dif_f);
           }
         }
       }
@@ -200,7 +216,11 @@ double PathTracer::sample_pixel(int x, int y, Rng& rng, double* bands, RayCounts
       double u = rng.next_double() * tot;
       if (u >= a) {
         wl[k] = b;
-        if (u >= a + r) wl[k] = sample_excitation(lm, b, fluor_total(lm, b), rng.next_float(), n);
+        fl[k] = fl_base[k];
+        if (u >= a + r) {
+          wl[k] = sample_excitation(lm, b, fluor_total(lm, b), rng.next_float(), n);
+          fl[k] = true;
+        }
       }
       beta[k] = float(beta[k] * tot * geo);
       maxb = std::max(maxb, beta[k]);
@@ -222,9 +242,11 @@ double PathTracer::sample_pixel(int x, int y, Rng& rng, double* bands, RayCounts
   for (int k = 0; k < kLanes; ++k) {
     if (L[k] == 0) continue;
     double v = double(L[k]) * t_.film_scale[film[k]] / kLanes;
+    double vf = double(Lf[k]) * t_.film_scale[film[k]] / kLanes;
     for (const auto& bw : t_.band_weights[film[k]]) {
       bands[bw.band] += bw.weight * v;
       total += bw.weight * v;
+      if (fluorescence) fluorescence[bw.band] += bw.weight * vf;
     }
   }
   return total;

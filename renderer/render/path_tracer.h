@@ -35,9 +35,11 @@ class PathTracer {
   PathTracer(const Scene& scene, const EmbreeScene& embree, const RenderTables& tables);
 
   // Traces one camera sample of pixel (x, y) and adds its band radiance (W sr^-1 m^-2 nm^-1,
-  // already divided by the wavelength pdf and the lane count) to `bands`. Returns the sum of what
-  // it added over all bands (for noise estimates).
-  double sample_pixel(int x, int y, Rng& rng, double* bands, RayCounts& counts, RayLog* log = nullptr) const;
+  // already divided by the wavelength pdf and the lane count) to `bands`, and the part of it that
+  // is fluorescence (light re-radiated at least once on its way) to `fluorescence` when given.
+  // Returns the sum of what it added over all bands (for noise estimates).
+  double sample_pixel(int x, int y, Rng& rng, double* bands, RayCounts& counts, RayLog* log = nullptr,
+                      double* fluorescence = nullptr) const;
 
  private:
   struct Ray { glm::dvec3 o, d; };

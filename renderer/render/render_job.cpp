@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "renderer/core/progress.h"
+#include "renderer/render/aov_pass.h"
 
 namespace ofl {
 
@@ -26,6 +27,10 @@ RenderResult render(const Scene& scene, const RenderOptions& opt) {
   const int spp = scene.integrator.spp;
   const uint64_t seed = scene.integrator.seed;
   std::vector<double> sum(size_t(W) * H * B, 0.0);
+  bool any_fluor = false;
+  for (auto& m : tables.materials) any_fluor = any_fluor || !m.fluorophores.empty();
+  const bool track_fl = opt.fluorescence_layer && any_fluor;
+  std::vector<double> sum_fl(track_fl ? sum.size() : 0, 0.0);
   // Two half-sums (even and odd samples) for the noise estimate.
   std::vector<float> half(size_t(W) * H * 2, 0.0f);
   constexpr int kTile = 16;
@@ -42,20 +47,23 @@ RenderResult render(const Scene& scene, const RenderOptions& opt) {
     pass = std::min(pass, spp - done);
     tbb::parallel_for(tbb::blocked_range<int>(0, tx * ty, 1), [&](const tbb::blocked_range<int>& r) {
       RayCounts local;
-      std::vector<double> acc(B);
+      std::vector<double> acc(B), acc_fl(B);
       for (int tile = r.begin(); tile != r.end(); ++tile) {
         int x0 = (tile % tx) * kTile, y0 = (tile / tx) * kTile;
         for (int y = y0; y < std::min(y0 + kTile, H); ++y)
           for (int x = x0; x < std::min(x0 + kTile, W); ++x) {
             std::fill(acc.begin(), acc.end(), 0.0);
+            std::fill(acc_fl.begin(), acc_fl.end(), 0.0);
             uint64_t pixel = uint64_t(y) * W + x;
             double h0 = 0, h1 = 0;
             for (int s = done; s < done + pass; ++s) {
               Rng rng(seed, Rng::stream_for(pixel, s));
-              ((s & 1) ? h1 : h0) += tracer.sample_pixel(x, y, rng, acc.data(), local, opt.ray_log);
+              ((s & 1) ? h1 : h0) += tracer.sample_pixel(x, y, rng, acc.data(), local, opt.ray_log, track_fl ? acc_fl.data() : nullptr);
             }
             double* dst = sum.data() + pixel * B;
             for (int b = 0; b < B; ++b) dst[b] += acc[b];
+            if (track_fl)
+              for (int b = 0; b < B; ++b) sum_fl[pixel * B + b] += acc_fl[b];
             half[2 * pixel] += float(h0);
             half[2 * pixel + 1] += float(h1);
           }
@@ -90,6 +98,11 @@ RenderResult render(const Scene& scene, const RenderOptions& opt) {
   res.image.resize(W, H, centres);
   double inv = done > 0 ? 1.0 / done : 0.0;
   for (size_t i = 0; i < sum.size(); ++i) res.image.data[i] = float(sum[i] * inv);
+  if (track_fl) {
+    res.image.fluorescence.resize(sum_fl.size());
+    for (size_t i = 0; i < sum_fl.size(); ++i) res.image.fluorescence[i] = float(sum_fl[i] * inv);
+  }
+  if (opt.aovs) res.image.aovs = compute_aovs(scene, embree);
   res.stats = st;
   describe_render(scene, st, res.image);
   return res;
@@ -102,6 +115,9 @@ void describe_render(const Scene& scene, const RenderStats& st, SpectralImage& i
   img.attributes["oralfluor.vfov_deg"] = std::to_string(scene.camera.vfov_deg);
   img.attributes["oralfluor.camera_position"] = nlohmann::json({scene.camera.position.x, scene.camera.position.y, scene.camera.position.z}).dump();
   if (st.interrupted) img.attributes["oralfluor.interrupted"] = "true";
+  nlohmann::json names = nlohmann::json::array();
+  for (auto& m : scene.materials) names.push_back(m.name);
+  img.attributes["oralfluor.materials"] = names.dump();
   // Summed on-axis radiant intensity of the LEDs, for tools that need the excitation spectrum.
   const WavelengthGrid& g = scene.grid();
   std::vector<double> nm, w(g.size(), 0.0);

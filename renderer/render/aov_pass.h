@@ -1,0 +1,22 @@
+// Per-pixel auxiliary planes from one deterministic ray through each pixel centre: what the pixel
+// sees (material index, UV, distance, cosine to the viewer) and the LED irradiance falling there
+// (W m^-2 over the grid, with shadows). Analysis uses them for ROIs (a material, a texture region)
+// and for irradiance non-uniformity.
+#pragma once
+#include <map>
+#include <string>
+#include <vector>
+
+#include "renderer/render/embree_scene.h"
+
+namespace ofl {
+
+// Planes named "aov.material" (index into Scene::materials; -1 nothing, -2 an LED), "aov.u",
+// "aov.v", "aov.depth" (m), "aov.cos_view", "aov.irradiance" (W m^-2).
+std::map<std::string, std::vector<float>> compute_aovs(const Scene& scene, const EmbreeScene& embree);
+
+// LED irradiance at point p with normal n (W m^-2, all lights, shadowed); disk LEDs are
+// integrated with a fixed 8 x 8 stratified pattern.
+double led_irradiance(const Scene& scene, const EmbreeScene& embree, const SurfacePoint& sp);
+
+}  // namespace ofl
