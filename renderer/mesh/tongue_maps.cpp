@@ -132,7 +132,7 @@ TongueMaps make_tongue_maps(const std::vector<TriangleMesh>& tongue, const Tongu
   }
   rasterise_uv(m, p.size, [&](int x, int y, const glm::dvec3& pos, const glm::dvec3& n) {
     size_t i = static_cast<size_t>(y) * p.size + x;
-    double dorsal = smoothstep(0.25, 0.6, n.z);
+    double dorsal = smoothstep(0.15, 0.5, n.z);
     double rx = (pos.x - xp) / p.porphyrin_radius_x_m, ry = (pos.y - y_mid) / p.porphyrin_radius_y_m;
     double r2 = rx * rx + ry * ry;
     double d = glm::length(pos - lesion_center) / p.lesion_radius_m;

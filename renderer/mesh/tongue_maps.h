@@ -24,7 +24,7 @@ struct TongueMapParams {
   int size = 1024;                     // texels along each side
   // Porphyrin patch: centre at this fraction of the tongue length back from the tip, on the
   // midline; a super-Gaussian exp(-r^4) with these radii (m) along x and y, on the dorsum only.
-  double porphyrin_center_frac = 0.62;
+  double porphyrin_center_frac = 0.55;
   double porphyrin_radius_x_m = 0.014;
   double porphyrin_radius_y_m = 0.012;
   // Lesion: centre on the left (+y) lateral border at this fraction back from the tip; radius (m)
