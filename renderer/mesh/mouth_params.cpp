@@ -43,7 +43,15 @@ const std::vector<MouthParamInfo>& mouth_param_table() {
 }
 
 void validate_mouth_params(const MouthParams& p, const std::string& name) {
-  auto fail = [&](const char* key, const std::string& what) { throw InputError(name, std::string("/") + key, what); };
+  // Name the offending key as a JSON pointer in a file, or as its flag on the command line.
+  auto fail = [&](const char* key, const std::string& what) {
+    std::string field = std::string("/") + key;
+    if (name == "command line") {
+      field = std::string("--") + key;
+      for (auto& c : field) if (c == '_') c = '-';
+    }
+    throw InputError(name, field, what);
+  };
   const double r = p.lip_thickness_m / 2;
   const double x_cavity = r + p.vestibule_depth_m;  // depth where the full cavity starts
   if (p.segments < 16 || p.segments % 8 != 0 || p.segments > 4096) fail("segments", "must be a multiple of 8 in [16, 4096]");
