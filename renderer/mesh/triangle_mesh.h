@@ -16,6 +16,7 @@ namespace ofl {
 struct TriangleMesh {
   std::string name;                 // glTF node/mesh name
   std::string material;             // glTF material name (what scenes bind materials by)
+  int material_id = -1;             // index into Scene::materials once a scene has bound it
   std::vector<glm::vec3> positions;
   std::vector<glm::vec3> normals;   // empty or one per position
   std::vector<glm::vec2> uvs;       // empty or one per position

@@ -37,7 +37,7 @@ EmbreeScene::EmbreeScene(const Scene& sc) : src_(sc) {
     for (size_t k = 0; k < m.positions.size(); ++k) { v[3 * k] = m.positions[k].x; v[3 * k + 1] = m.positions[k].y; v[3 * k + 2] = m.positions[k].z; }
     auto* ix = static_cast<unsigned*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), m.triangle_count()));
     for (size_t k = 0; k < m.indices.size(); ++k) ix[k] = m.indices[k];
-    attach(g, {GeomInfo::Kind::kMesh, static_cast<int>(i), m.material});
+    attach(g, {GeomInfo::Kind::kMesh, static_cast<int>(i), m.material_id});
   }
   for (size_t i = 0; i < sc.spheres.size(); ++i) {
     const auto& s = sc.spheres[i];

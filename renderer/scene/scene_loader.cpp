@@ -7,7 +7,9 @@
 
 #include "materials/material_parser.h"
 #include "renderer/core/error.h"
+#include "renderer/mesh/gltf_reader.h"
 #include "renderer/scene/scene.h"
+#include "renderer/scene/scene_transform.h"
 
 namespace ofl {
 namespace {
@@ -68,14 +70,15 @@ void parse_geometry(Scene& sc, const JsonNode& list) {
       g.check_keys({"type", "file", "transform", "materials", "default_material"});
       glm::dmat4 world = g.find("transform") ? parse_transform(g.at("transform")) : glm::dmat4(1.0);
       auto file = g.at("file").existing_file();
-      auto meshes = load_gltf(file, world);
+      auto meshes = read_gltf(file, world).meshes;
+      if (meshes.empty()) g.at("file").fail("the glTF file has no triangle meshes");
       for (auto& m : meshes) {
-        std::string scene_name = m.material_name;
-        if (auto map = g.find("materials"); map && map->has(m.material_name)) scene_name = map->at(m.material_name).string();
-        m.material = material_index(sc, scene_name);
-        if (m.material < 0 && g.has("default_material")) m.material = require_material(sc, g.at("default_material"));
-        if (m.material < 0)
-          g.fail("glTF material \"" + m.material_name + "\" of " + file.string() +
+        std::string scene_name = m.material;
+        if (auto map = g.find("materials"); map && map->has(m.material)) scene_name = map->at(m.material).string();
+        m.material_id = material_index(sc, scene_name);
+        if (m.material_id < 0 && g.has("default_material")) m.material_id = require_material(sc, g.at("default_material"));
+        if (m.material_id < 0)
+          g.fail("glTF material \"" + m.material + "\" of " + file.string() +
                  " has no scene material of that name (add it to /materials, map it in \"materials\", or set \"default_material\")");
         sc.meshes.push_back(std::move(m));
       }
@@ -85,7 +88,8 @@ void parse_geometry(Scene& sc, const JsonNode& list) {
       if (glm::length(glm::cross(u, v)) < 1e-15) g.fail("u and v must span a plane");
       TriangleMesh m;
       m.name = "quad " + std::to_string(gi);
-      m.material = require_material(sc, g.at("material"));
+      m.material_id = require_material(sc, g.at("material"));
+      m.material = g.at("material").string();
       glm::dvec3 p[4] = {c - 0.5 * u - 0.5 * v, c + 0.5 * u - 0.5 * v, c + 0.5 * u + 0.5 * v, c - 0.5 * u + 0.5 * v};
       glm::vec2 uv[4] = {{0, 1}, {1, 1}, {1, 0}, {0, 0}};
       for (int k = 0; k < 4; ++k) { m.positions.push_back(glm::vec3(p[k])); m.uvs.push_back(uv[k]); }
