@@ -3,7 +3,7 @@
 //                                DSNU and PRNU from simulated flat fields, and the camera's speed
 //                                (megapixels per second for a 31-band image) as a ratio of the
 //                                noise-free to the noisy pipeline.
-//   camera_bench chart OUT.exr [patch_px] [peak_irradiance_W_m2_nm]
+//   camera_bench chart OUT.exr [patch_px] [peak_irradiance_W_m2_nm] [band_step_nm]
 //                                writes the synthetic fluorescence chart used in docs/camera.md.
 #include <chrono>
 #include <cmath>
@@ -21,7 +21,7 @@ using namespace ofl;
 
 static int write_chart(int argc, char** argv) {
   if (argc < 3) {
-    std::fprintf(stderr, "usage: camera_bench chart OUT.exr [patch_px] [peak_irradiance_W_m2_nm]\n");
+    std::fprintf(stderr, "usage: camera_bench chart OUT.exr [patch_px] [peak_irradiance_W_m2_nm] [band_step_nm]\n");
     return 2;
   }
   ChartOptions o;
@@ -29,6 +29,8 @@ static int write_chart(int argc, char** argv) {
   o.concentrations = {0.0, 3e-4, 1e-3, 3e-3, 1e-2, 3e-2};
   o.patch_px = argc > 3 ? std::atoi(argv[3]) : 40;
   o.peak_irradiance = argc > 4 ? std::atof(argv[4]) : 1.0;
+  double step = argc > 5 ? std::atof(argv[5]) : 10.0;
+  for (double nm = 400; nm <= 700 + 1e-9; nm += step) o.band_nm.push_back(nm);
   o.led = example_led_spectrum();
   o.reflectance = tongue_reflectance_spectrum();
   o.shading_corner = 0.4;
@@ -78,9 +80,13 @@ static void ptc() {
   row("system gain K (DN/e-)", s.system_gain_dn_per_e, r.system_gain_dn_per_e);
   row("read noise (e-)", s.read_noise_e, r.read_noise_e);
   row("saturation capacity (e-)", s.full_well_e, r.saturation_capacity_e);
+  row("full well, plateau (e-)", s.full_well_e, r.full_well_plateau_e);
   row("DSNU (e-)", s.dsnu_e, u.dsnu_e);
   row("PRNU (%)", 100 * s.prnu, 100 * u.prnu);
-  std::printf("  (%d points in the 0-70%% fit; analysis %.2f s)\n", r.fit_points, sec);
+  std::printf("  (%d points in the 0-70%% fit; EMVA saturation capacity = mean at the variance peak, which 1%% PRNU\n"
+              "   pulls below the full well; the plateau of fully clipped frames gives the full well itself)\n",
+              r.fit_points);
+  (void)sec;
 }
 
 static void speed() {

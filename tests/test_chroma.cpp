@@ -241,5 +241,5 @@ TEST(Chroma, CliWritesPlotAndLinesFromTheSidecar) {
   EXPECT_NE(text.find("protoporphyrin"), std::string::npos);
   auto png = OIIO::ImageInput::open((out / "chroma.png").string());
   ASSERT_TRUE(png);
-  EXPECT_EQ(png->spec().width, 1400);
+  EXPECT_EQ(png->spec().width, 1480);
 }

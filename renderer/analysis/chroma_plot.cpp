@@ -43,6 +43,7 @@ double nice_step(double range, int target) {
 }
 
 std::string fmt(double v, int decimals) {
+  if (std::fabs(v) < 0.5 * std::pow(10.0, -decimals)) v = 0.0;  // no "-0.0"
   char b[32];
   std::snprintf(b, sizeof b, "%.*f", decimals, v);
   return b;
@@ -101,6 +102,12 @@ void draw_points(VectorPlot& p, const Panel& pn, const ChromaStats& s, double ra
 
 void draw_lines(VectorPlot& p, const Panel& pn, const std::vector<ReferenceLine>& lines, bool labels) {
   p.clip(pn.clip());
+  struct Label {
+    Point2 end, at;
+    Rgba color;
+    std::string text;
+  };
+  std::vector<Label> tags;
   for (size_t i = 0; i < lines.size(); ++i) {
     const auto& l = lines[i];
     if (!l.visible) continue;
@@ -109,7 +116,22 @@ void draw_lines(VectorPlot& p, const Panel& pn, const std::vector<ReferenceLine>
     for (auto& rg : l.rg) pts.push_back(pn.map(rg[0], rg[1]));
     p.polyline(pts, c, 2.0);
     for (size_t k = 1; k < pts.size(); k += 4) p.circle(pts[k], 3.0, c);
-    if (labels) p.text({pts.back()[0] + 6, pts.back()[1] - 4}, l.fluorophore, 12, c);
+    tags.push_back({pts.back(), {pts.back()[0] + 8, pts.back()[1] + 4}, c, l.fluorophore});
+  }
+  if (labels) {
+    // Push labels apart vertically (at least 14 px), with a leader line when one moved.
+    std::sort(tags.begin(), tags.end(), [](const Label& a, const Label& b) { return a.at[1] < b.at[1]; });
+    for (size_t k = 1; k < tags.size(); ++k)
+      if (std::fabs(tags[k].at[0] - tags[k - 1].at[0]) < 90 && tags[k].at[1] - tags[k - 1].at[1] < 14)
+        tags[k].at[1] = tags[k - 1].at[1] + 14;
+    p.clip({});
+    for (auto& t : tags) {
+      // Labels that would leave the panel go to the left of the line's end.
+      bool left = t.at[0] + 7.5 * t.text.size() > pn.x + pn.w;
+      Point2 at = left ? Point2{t.end[0] - 8, t.at[1]} : t.at;
+      if (std::fabs(t.at[1] - 4 - t.end[1]) > 3) p.polyline({t.end, {at[0] + (left ? 2 : -2), at[1] - 4}}, t.color, 0.8);
+      p.text(at, t.text, 12, t.color, left ? TextAnchor::kEnd : TextAnchor::kStart);
+    }
   }
   if (!lines.empty()) {
     auto t = pn.map(lines[0].rg[0][0], lines[0].rg[0][1]);
@@ -123,8 +145,8 @@ void draw_lines(VectorPlot& p, const Panel& pn, const std::vector<ReferenceLine>
 VectorPlot make_chroma_plot(const ChromaPlotData& d, int width, int height) {
   VectorPlot p(width, height);
   const ChromaStats& s = d.stats;
-  double top = 86, bottom = 60, left = 70, gap = 90, right = 30;
-  double pw = (width - left - gap - right) / 2.0, ph = height - top - bottom;
+  double top = 86, bottom = 60, left = 70, gap = 90, legend_w = 230, right = 10;
+  double pw = (width - left - gap - 24 - legend_w - right) / 2.0, ph = height - top - bottom;
 
   // Overview box: reference lines, tongue point and ROI mean.
   Box all{1e300, -1e300, 1e300, -1e300};
@@ -170,18 +192,18 @@ VectorPlot make_chroma_plot(const ChromaPlotData& d, int width, int height) {
   p.rect(a[0], b[1], b[0] - a[0], a[1] - b[1], {0, 0, 0, 0}, rgb_hex(0x444444), 1.0);
   p.clip({});
 
-  // Legend inside the overview, top left.
-  double lx = overview.x + 10, ly = overview.y + 10;
+  // Legend to the right of the zoom panel.
+  double lx = zoom.x + zoom.w + 24, ly = overview.y;
   int n = 0;
   for (const auto& l : d.lines) n += l.visible;
   double lh = 18.0 * (n + 2) + 8;
-  p.rect(lx, ly, 190, lh, rgb_hex(0xffffff, 0.85f), rgb_hex(0xaaaaaa), 1);
+  p.rect(lx, ly, legend_w, lh, rgb_hex(0xffffff), rgb_hex(0xaaaaaa), 1);
   double yy = ly + 20;
   p.rect(lx + 10, yy - 9, 10, 10, rgb_hex(0x000000));
   p.text({lx + 28, yy}, "tongue reflectance (c = 0)", 12, rgb_hex(0x000000));
   yy += 18;
   p.circle({lx + 15, yy - 4}, 3, rgb_hex(0x555555, 0.6f));
-  p.text({lx + 28, yy}, "ROI cells; + mean, 95 % ellipse", 12, rgb_hex(0x000000));
+  p.text({lx + 28, yy}, "ROI cells, + mean, 95 % ellipse", 12, rgb_hex(0x000000));
   for (size_t i = 0; i < d.lines.size(); ++i) {
     if (!d.lines[i].visible) continue;
     yy += 18;

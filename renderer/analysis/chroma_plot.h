@@ -22,7 +22,7 @@ struct ChromaPlotData {
   std::string subtitle;
 };
 
-VectorPlot make_chroma_plot(const ChromaPlotData& data, int width = 1400, int height = 720);
+VectorPlot make_chroma_plot(const ChromaPlotData& data, int width = 1480, int height = 720);
 
 // Writes <stem>.svg and <stem>.png; returns false when the PNG had to leave its labels out.
 bool write_chroma_plot(const ChromaPlotData& data, const std::filesystem::path& stem);

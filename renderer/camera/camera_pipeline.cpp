@@ -32,6 +32,9 @@ CameraRun simulate_camera(const SpectralImage& img, const CameraDescription& cam
                                      &run.warnings);
   if (run.geometry.source == FieldGeometry::Source::kNone && cam.filters.any_interference() && cam.lens.sensor_cra_deg < 0)
     run.warnings.push_back("interference filters are evaluated at normal incidence everywhere (no field angles)");
+  if (auto u = img.attributes.find("emissiveUnits"); u != img.attributes.end() && u->second != "W.m^-2.sr^-1")
+    run.warnings.push_back("the EXR's emissiveUnits are \"" + u->second +
+                           "\", not W.m^-2.sr^-1: electron counts assume W sr^-1 m^-2 nm^-1");
   double outside = response_outside_bands(cam, lo, hi);
   if (outside > 0.01) {
     std::ostringstream w;
