@@ -9,6 +9,7 @@ pkgs=(
   libeigen3-dev libmatio-dev libgtest-dev
   openmpi-bin libopenmpi-dev
   chromium
+  fonts-dejavu-core dcraw
 )
 missing=()
 for p in "${pkgs[@]}"; do

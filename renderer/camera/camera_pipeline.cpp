@@ -1,0 +1,171 @@
+#include "renderer/camera/camera_pipeline.h"
+
+#include <OpenImageIO/imageio.h>
+
+#include <algorithm>
+#include <cstdlib>
+#include <sstream>
+
+#include "renderer/camera/camera_color.h"
+#include "renderer/core/error.h"
+
+namespace ofl {
+
+std::optional<double> render_vfov_deg(const SpectralImage& img, std::vector<std::string>* warnings) {
+  auto it = img.attributes.find("oralfluor.vfov_deg");
+  if (it == img.attributes.end()) return std::nullopt;
+  char* end = nullptr;
+  double v = std::strtod(it->second.c_str(), &end);
+  if (end == it->second.c_str() || !(v > 0 && v < 180)) {
+    if (warnings) warnings->push_back("ignoring oralfluor.vfov_deg \"" + it->second + "\" (not an angle in (0, 180))");
+    return std::nullopt;
+  }
+  return v;
+}
+
+CameraRun simulate_camera(const SpectralImage& img, const CameraDescription& cam, const CameraRunOptions& opt,
+                          const std::string& radiance_file) {
+  CameraRun run;
+  const SensorDescription& s = cam.sensor;
+  auto lo = img.band_lo(), hi = img.band_hi();
+  run.geometry = make_field_geometry(cam.lens, s, img.width, img.height, render_vfov_deg(img, &run.warnings),
+                                     &run.warnings);
+  if (run.geometry.source == FieldGeometry::Source::kNone && cam.filters.any_interference() && cam.lens.sensor_cra_deg < 0)
+    run.warnings.push_back("interference filters are evaluated at normal incidence everywhere (no field angles)");
+  if (auto u = img.attributes.find("emissiveUnits"); u != img.attributes.end() && u->second != "W.m^-2.sr^-1")
+    run.warnings.push_back("the EXR's emissiveUnits are \"" + u->second +
+                           "\", not W.m^-2.sr^-1: electron counts assume W sr^-1 m^-2 nm^-1");
+  double outside = response_outside_bands(cam, lo, hi);
+  if (outside > 0.01) {
+    std::ostringstream w;
+    w << "the image's bands (" << lo.front() << "-" << hi.back() << " nm) miss " << outside * 100.0
+      << "% of the camera's response to a flat spectrum; that light is not simulated";
+    run.warnings.push_back(w.str());
+  }
+  run.expected = expected_electrons(img, cam, run.geometry);
+  bool noise = opt.noise.value_or(cam.noise);
+  uint64_t seed = opt.seed.value_or(cam.seed);
+  FixedPattern fixed = noise ? make_fixed_pattern(s, img.width, img.height) : FixedPattern{};
+  run.raw = simulate_raw(run.expected.mosaic_e, img.width, img.height, s, noise, seed, fixed);
+
+  RawMetadata& m = run.meta;
+  m.width = img.width;
+  m.height = img.height;
+  m.cfa = s.cfa;
+  m.black_level_dn = s.black_level_dn;
+  m.white_level_dn = s.white_level_dn();
+  m.adc_max_dn = s.adc_max_dn();
+  m.bit_depth = s.bit_depth;
+  m.exposure_s = s.exposure_s;
+  m.system_gain_dn_per_e = s.system_gain_dn_per_e;
+  m.analog_gain = s.analog_gain;
+  m.full_well_e = s.full_well_e;
+  m.noise = noise;
+  m.seed = seed;
+  m.camera_name = cam.name;
+  nlohmann::json attrs = nlohmann::json::object();
+  for (const auto& [k, v] : img.attributes)
+    if (k.rfind("oralfluor.", 0) == 0) attrs[k] = v;
+  m.extra["camera"] = camera_to_json(cam, lo.front(), hi.back());
+  m.extra["camera_file"] = cam.source;
+  m.extra["radiance"] = {{"file", radiance_file}, {"width", img.width}, {"height", img.height},
+                         {"band_nm", img.band_nm}, {"band_lo_nm", lo}, {"band_hi_nm", hi}};
+  m.extra["exr_attributes"] = attrs;
+  m.extra["field_geometry"] = run.geometry.to_json();
+
+  // Summary: per CFA channel, expected electrons (photo + dark) and raw means.
+  nlohmann::json channels = nlohmann::json::object();
+  double sums[3][3] = {{0}};  // [channel][expected e, dn, saturated]
+  size_t counts[3] = {0, 0, 0};
+  for (int y = 0; y < img.height; ++y)
+    for (int x = 0; x < img.width; ++x) {
+      size_t i = static_cast<size_t>(y) * img.width + x;
+      int c = cfa_channel(s.cfa, x, y);
+      sums[c][0] += run.expected.mosaic_e[i] + run.expected.dark_e;
+      sums[c][1] += run.raw.dn[i];
+      sums[c][2] += run.raw.dn[i] >= m.white_level_dn;
+      ++counts[c];
+    }
+  size_t saturated = 0;
+  for (int c = 0; c < 3; ++c) {
+    double n = std::max<size_t>(counts[c], 1);
+    channels[channel_name(c)] = {{"pixels", counts[c]},
+                                 {"mean_expected_electrons", sums[c][0] / n},
+                                 {"mean_dn", sums[c][1] / n},
+                                 {"mean_dn_above_black", sums[c][1] / n - m.black_level_dn},
+                                 {"saturated_fraction", sums[c][2] / n}};
+    saturated += static_cast<size_t>(sums[c][2]);
+  }
+  double npx = static_cast<double>(img.width) * img.height;
+  run.summary = {{"camera", cam.name},
+                 {"radiance", radiance_file},
+                 {"width", img.width},
+                 {"height", img.height},
+                 {"cfa_pattern", cfa_name(s.cfa)},
+                 {"noise", noise},
+                 {"seed", seed},
+                 {"exposure_s", s.exposure_s},
+                 {"total_gain_dn_per_e", s.total_gain()},
+                 {"black_level_dn", m.black_level_dn},
+                 {"white_level_dn", m.white_level_dn},
+                 {"dark_electrons", run.expected.dark_e},
+                 {"channels", channels},
+                 {"saturated_fraction", saturated / npx},
+                 {"full_well_clipped_fraction", run.raw.full_well_clipped / npx},
+                 {"adc_clipped_fraction", run.raw.adc_clipped / npx},
+                 {"field_geometry", run.geometry.to_json()},
+                 {"warnings", run.warnings}};
+  return run;
+}
+
+void write_electrons_exr(const std::filesystem::path& file, const ExpectedSignal& e, const nlohmann::json& attributes) {
+  auto out = OIIO::ImageOutput::create(file.string());
+  if (!out) throw InputError(file.string(), "", "cannot create EXR writer: " + OIIO::geterror());
+  OIIO::ImageSpec spec(e.width, e.height, 4, OIIO::TypeDesc::FLOAT);
+  spec.channelnames = {"R", "G", "B", "mosaic"};
+  spec.attribute("compression", "zip");
+  spec.attribute("oralfluor.units", "electrons (expected, noise-free)");
+  spec.attribute("oralfluor.channels",
+                 "R, G, B: photo-electrons each colour would collect at the pixel; mosaic: the pixel's own CFA "
+                 "colour plus the expected dark electrons");
+  for (auto it = attributes.begin(); it != attributes.end(); ++it)
+    spec.attribute("oralfluor." + it.key(), it.value().is_string() ? it.value().get<std::string>() : it.value().dump());
+  std::vector<float> px(static_cast<size_t>(e.width) * e.height * 4);
+  for (size_t i = 0; i < e.mosaic_e.size(); ++i) {
+    for (int c = 0; c < 3; ++c) px[i * 4 + c] = e.channel_e[i * 3 + c];
+    px[i * 4 + 3] = static_cast<float>(e.mosaic_e[i] + e.dark_e);
+  }
+  if (!out->open(file.string(), spec) || !out->write_image(OIIO::TypeDesc::FLOAT, px.data()) || !out->close())
+    throw InputError(file.string(), "", "cannot write EXR: " + out->geterror());
+}
+
+CameraOutputs write_camera_outputs(const CameraRun& run, const CameraDescription& cam, const CameraRunOptions& opt,
+                                   const std::filesystem::path& dir) {
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (!std::filesystem::is_directory(dir, ec)) throw InputError(dir.string(), "", "cannot create output folder");
+  CameraOutputs o;
+  o.raw_tiff = dir / "raw.tiff";
+  o.raw_json = dir / "raw.json";
+  o.electrons_exr = dir / "electrons.exr";
+  o.preview_png = dir / "preview.png";
+  write_raw_tiff(o.raw_tiff, run.raw.dn, run.meta);
+  write_raw_sidecar(o.raw_json, run.meta);
+  const auto& rad = run.meta.extra.at("radiance");
+  double lo = rad.at("band_lo_nm").front().get<double>(), hi = rad.at("band_hi_nm").back().get<double>();
+  CameraColor sensor_color = camera_color(cam, lo, hi, false);
+  if (opt.write_dng) {
+    o.raw_dng = dir / "raw.dng";
+    DngColor dc;
+    dc.xyz_to_camera = sensor_color.xyz_to_camera;
+    dc.as_shot_neutral = sensor_color.d65_neutral;
+    write_dng(o.raw_dng, run.raw.dn, run.meta, dc);
+  }
+  write_electrons_exr(o.electrons_exr, run.expected,
+                      {{"camera", cam.name}, {"radiance", rad.at("file")}, {"exposure_s", cam.sensor.exposure_s}});
+  write_raw_preview_png(o.preview_png, run.raw.dn, run.meta.width, run.meta.height, run.meta.cfa,
+                        run.meta.black_level_dn, run.meta.white_level_dn, sensor_color, opt.preview);
+  return o;
+}
+
+}  // namespace ofl

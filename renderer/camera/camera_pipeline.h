@@ -1,0 +1,54 @@
+// `oralfluor camera` as a library call: spectral radiance + camera description -> field geometry,
+// expected electrons, raw mosaic and its metadata, a summary; and the files the command writes
+// (raw.tiff, raw.json, raw.dng, electrons.exr, preview.png).
+#pragma once
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "renderer/camera/camera_description.h"
+#include "renderer/camera/expected_signal.h"
+#include "renderer/camera/lens_optics.h"
+#include "renderer/camera/raw_preview.h"
+#include "renderer/camera/raw_writer.h"
+#include "renderer/camera/sensor_model.h"
+#include "renderer/image/spectral_image.h"
+
+namespace ofl {
+
+struct CameraRunOptions {
+  std::optional<uint64_t> seed;  // overrides the camera's "seed"
+  std::optional<bool> noise;     // overrides the camera's "noise"
+  PreviewSettings preview;
+  bool write_dng = true;
+};
+
+struct CameraRun {
+  FieldGeometry geometry;
+  ExpectedSignal expected;
+  RawFrame raw;
+  RawMetadata meta;
+  std::vector<std::string> warnings;
+  nlohmann::json summary;  // per-channel means, saturation, geometry, warnings
+};
+
+// The EXR's oralfluor.vfov_deg, when present and a number.
+std::optional<double> render_vfov_deg(const SpectralImage& radiance, std::vector<std::string>* warnings);
+
+CameraRun simulate_camera(const SpectralImage& radiance, const CameraDescription& cam, const CameraRunOptions& opt,
+                          const std::string& radiance_file);
+
+struct CameraOutputs {
+  std::filesystem::path raw_tiff, raw_json, raw_dng, electrons_exr, preview_png;
+};
+CameraOutputs write_camera_outputs(const CameraRun& run, const CameraDescription& cam, const CameraRunOptions& opt,
+                                   const std::filesystem::path& dir);
+
+// Expected electrons as a float EXR: channels R, G, B (photo-electrons each channel would collect)
+// and "mosaic" (the pixel's own channel plus the expected dark electrons).
+void write_electrons_exr(const std::filesystem::path& file, const ExpectedSignal& e, const nlohmann::json& attributes);
+
+}  // namespace ofl
