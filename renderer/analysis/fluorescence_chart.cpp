@@ -18,7 +18,7 @@ Spectrum example_led_spectrum() {
 Spectrum tongue_reflectance_spectrum() {
   SpectrumCsvOptions o;
   o.outside = Outside::kClamp;
-  return table_spectrum(read_spectrum_csv(asset_path("spectra/reflectance/TongueReflectance.csv"), o), "tongue");
+  return table_spectrum(read_spectrum_csv(asset_path("spectra/tissue/tongue_reflectance.csv"), o), "tongue");
 }
 
 SpectralImage make_fluorescence_chart(const ChartOptions& o) {

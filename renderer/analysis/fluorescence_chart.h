@@ -32,7 +32,7 @@ struct ChartOptions {
 SpectralImage make_fluorescence_chart(const ChartOptions& opt);
 
 // The shipped example LED (assets/spectra/lights/oraleye_405nm_flood.csv) and tongue reflectance
-// (assets/spectra/reflectance/TongueReflectance.csv).
+// (assets/spectra/tissue/tongue_reflectance.csv).
 Spectrum example_led_spectrum();
 Spectrum tongue_reflectance_spectrum();
 

@@ -14,6 +14,7 @@
 #include "renderer/camera/lens_optics.h"
 #include "renderer/camera/raw_writer.h"
 #include "renderer/cli/commands.h"
+#include "renderer/core/asset_path.h"
 #include "renderer/core/error.h"
 #include "renderer/spectral/fluorophore_library.h"
 #include "renderer/spectral/spectrum_json.h"
@@ -172,7 +173,7 @@ void register_chroma_command(CLI::App& app) {
         if (!lines.back().visible) warnings.push_back("fluorophore " + n + " gives no signal through this camera under this LED");
       }
       ref_info = {{"led", led_source},
-                  {"reflectance", o->reflectance.empty() ? std::string("assets/spectra/reflectance/TongueReflectance.csv") : o->reflectance},
+                  {"reflectance", o->reflectance.empty() ? asset_path("spectra/tissue/tongue_reflectance.csv").string() : o->reflectance},
                   {"camera", cam.name},
                   {"camera_range_nm", {ro.camera_lo_nm, ro.camera_hi_nm}},
                   {"field_angle_deg", ro.aoi_front_rad * 180.0 / kPi},

@@ -8,7 +8,7 @@
 
 namespace ofl {
 
-CameraSpec parse_camera(const JsonNode& n) {
+CameraSpec parse_camera_spec(const JsonNode& n) {
   n.check_keys({"type", "position", "look_at", "up", "fov_deg", "focal_length_mm", "sensor_height_mm", "f_number",
                 "focus_distance_m", "resolution"});
   CameraSpec c;

@@ -25,6 +25,6 @@ struct CameraSpec {
 
 // {"type": "pinhole" | "thin_lens", "position", "look_at", "up", "fov_deg" | ("focal_length_mm" and
 //  "sensor_height_mm"), "f_number", "focus_distance_m", "resolution": [w, h]}
-CameraSpec parse_camera(const JsonNode& node);
+CameraSpec parse_camera_spec(const JsonNode& node);
 
 }  // namespace ofl

@@ -124,7 +124,7 @@ Scene load_scene(const JsonFile& doc, const SceneOverrides& ov) {
   sc.integrator = r.find("integrator") ? parse_integrator(r.at("integrator")) : IntegratorSpec{};
   if (ov.spp) sc.integrator.spp = *ov.spp;
   if (ov.seed) sc.integrator.seed = *ov.seed;
-  sc.camera = parse_camera(r.at("camera"));
+  sc.camera = parse_camera_spec(r.at("camera"));
   if (ov.width) sc.camera.width = *ov.width;
   if (ov.height) sc.camera.height = *ov.height;
 
