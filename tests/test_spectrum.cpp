@@ -27,6 +27,12 @@ TEST(Spectrum, TableBinMeanIsExactForLinear) {
   for (int i = 0; i < g.size(); ++i) EXPECT_NEAR(v[i], (g.wavelength(i) - 400) / 100.0, 1e-12);
 }
 
+TEST(Spectrum, TableEndIsAJumpNotARamp) {
+  // A table that is zero outside [402, 420] nm: the bin [400, 405] holds 3 nm of value 1 -> 0.6.
+  TabulatedSpectrum t{{402, 420}, {1.0, 1.0}, Outside::kZero};
+  EXPECT_NEAR(average(table_spectrum(t, "box"), 400, 405), 0.6, 1e-6);
+}
+
 TEST(Spectrum, BlackbodyPeakFollowsWien) {
   WavelengthGrid g{300, 1500, 1};
   auto v = tabulate(blackbody_spectrum(5000), g);
