@@ -6,6 +6,8 @@
 //   "concentrations": {"FAD": 4e-4, ...}      sets (or adds) library fluorophores
 //   "fluorescence_scale": 0.5                 multiplies every concentration
 //   "textures": {"protoporphyrin": "patch.png" | {"file": ..., "offset": 1, "scale": -0.5}}
+//   "extra_fluorophores": [<fluorophore layer>, ...]   appended as written (e.g. a second
+//                                             protoporphyrin layer mapped to a lesion)
 //   "coating": {"ior": 1.33, "roughness": 0.25} | false
 #include <filesystem>
 
@@ -16,7 +18,7 @@
 namespace ofl {
 
 Material parse_tissue(const JsonNode& n, MaterialContext& ctx, const std::string& forced_preset) {
-  n.check_keys({"type", "preset", "reflectance", "concentrations", "fluorescence_scale", "textures", "coating"});
+  n.check_keys({"type", "preset", "reflectance", "concentrations", "fluorescence_scale", "textures", "extra_fluorophores", "coating"});
   std::string preset = forced_preset.empty() ? n.at("preset").string() : n.string_or("preset", forced_preset);
   auto file = asset_root() / "tissues" / (preset + ".json");
   std::error_code ec;
@@ -70,6 +72,20 @@ Material parse_tissue(const JsonNode& n, MaterialContext& ctx, const std::string
       nlohmann::json* l = find_layer(k);
       if (!l) t.fail("the preset has no fluorophore \"" + k + "\" (set its concentration in \"concentrations\" first)");
       (*l)["texture"] = tex;
+    }
+  }
+  if (auto extra = n.find("extra_fluorophores")) {
+    for (size_t i = 0; i < extra->size(); ++i) {
+      JsonNode l = extra->at(i);
+      nlohmann::json layer = l.raw();
+      // File names are the user's, relative to the user's file.
+      for (const char* k : {"eem", "fluorophore"})
+        if (l.has(k)) layer[k] = abs(l.at(k).existing_file());
+      if (auto t = l.find("texture")) {
+        if (t->is_object()) layer["texture"]["file"] = abs(t->at("file").existing_file());
+        else layer["texture"] = abs(t->existing_file());
+      }
+      base["fluorophores"].push_back(layer);
     }
   }
   if (auto c = n.find("coating")) {

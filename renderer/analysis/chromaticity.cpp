@@ -53,7 +53,7 @@ nlohmann::json ChromaStats::to_json(bool with_points) const {
 }
 
 ChromaStats roi_chromaticity(const std::vector<uint16_t>& dn, int w, int h, CfaPattern cfa, double black,
-                             double white, const Roi& roi, bool include_saturated) {
+                             double white, const Roi& roi, bool include_saturated, const std::vector<uint8_t>* mask) {
   if (roi.x + roi.w > w || roi.y + roi.h > h)
     throw InputError("", "--roi", "region " + std::to_string(roi.x) + "," + std::to_string(roi.y) + "," +
                                       std::to_string(roi.w) + "," + std::to_string(roi.h) + " leaves the " +
@@ -64,6 +64,10 @@ ChromaStats roi_chromaticity(const std::vector<uint16_t>& dn, int w, int h, CfaP
   double sr = 0, sg = 0, rgb[3] = {0, 0, 0};
   for (int y = y0; y + 1 < roi.y + roi.h; y += 2)
     for (int x = x0; x + 1 < roi.x + roi.w; x += 2) {
+      if (mask) {
+        auto in = [&](int xx, int yy) { return (*mask)[static_cast<size_t>(yy) * w + xx] != 0; };
+        if (!(in(x, y) && in(x + 1, y) && in(x, y + 1) && in(x + 1, y + 1))) continue;
+      }
       ++s.cells;
       double sum[3] = {0, 0, 0};
       int count[3] = {0, 0, 0};

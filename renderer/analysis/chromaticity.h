@@ -48,7 +48,10 @@ struct ChromaStats {
 };
 
 // Throws InputError (field "--roi") when the ROI leaves the image or holds no complete cell.
+// With a `mask` (one byte per pixel), only cells whose four pixels are all non-zero in it count
+// (e.g. the pixels that see the tongue, from the render's aov.material plane).
 ChromaStats roi_chromaticity(const std::vector<uint16_t>& dn, int width, int height, CfaPattern cfa, double black,
-                             double white, const Roi& roi, bool include_saturated = false);
+                             double white, const Roi& roi, bool include_saturated = false,
+                             const std::vector<uint8_t>* mask = nullptr);
 
 }  // namespace ofl

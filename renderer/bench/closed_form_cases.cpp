@@ -77,20 +77,24 @@ BenchResult lambert_point_led(const BenchOptions& o) {
 // Case 4: a Lambertian disk LED (m = 1, radius a) above a patch; irradiance of a point of a
 // parallel plane at distance h and radial offset rho: E = pi L / 2 (1 - (h^2 + rho^2 - a^2) /
 // sqrt((h^2 + rho^2 + a^2)^2 - 4 rho^2 a^2)); on the axis this is E = pi L a^2 / (h^2 + a^2).
-BenchResult disk_led(const BenchOptions& o) {
-  json j = base_scene(o, 1);
+// `spectrum` gives, per grid bin, the patch radiance in W per unit of that geometric factor
+// (E / L_led): R L_led / pi for a Lambertian patch, more with fluorescence.
+}  // namespace
+
+BenchResult disk_led_case(const BenchOptions& o, const std::string& name, const nlohmann::json& material,
+                          const std::function<std::vector<double>(const Scene&)>& spectrum) {
+  json j = base_scene(o, 1, 350, 750);
   const double h = 0.03, a = 0.015;
   j["camera"] = {{"position", {0.12, 0, 0.16}}, {"look_at", {0, 0, 0}}, {"up", {0, 0, 1}}, {"fov_deg", 20}, {"resolution", {96, 96}}};
-  j["materials"] = {{"patch", {{"type", "lambertian"}, {"reflectance", 0.6}}}};
+  j["materials"] = {{"patch", material}};
   j["geometry"] = {{{"type", "quad"}, {"center", {0, 0, 0}}, {"u", {0.5, 0, 0}}, {"v", {0, 0.5, 0}}, {"material", "patch"}}};
-  j["lights"] = {{{"type", "led"}, {"spd", {{"type", "gaussian"}, {"peak_nm", 560}, {"fwhm_nm", 200}}}, {"radiant_intensity_W_sr", 0.3},
+  json spd = material.value("type", "") == "lambertian" ? json{{"type", "gaussian"}, {"peak_nm", 560}, {"fwhm_nm", 200}}
+                                                        : json{{"type", "gaussian"}, {"peak_nm", 405}, {"fwhm_nm", 15}};
+  j["lights"] = {{{"type", "led"}, {"spd", spd}, {"radiant_intensity_W_sr", 0.3},
                   {"profile", {{"cos_power", 1}}}, {"radius_m", a}, {"position", {0, 0, h}}, {"axis", {0, 0, -1}}}};
-  Rendered r = render_json(j, "disk_led");
+  Rendered r = render_json(j, name);
   const Scene& sc = r.scene;
-  const LedLight& led = sc.lights[0];
-  std::vector<double> Lr(sc.grid().size());
-  for (size_t i = 0; i < Lr.size(); ++i) Lr[i] = sc.materials[0].reflectance[i] * led.spectral_intensity[i] / (kPi * a * a) / kPi;
-  auto lb = to_bands(sc, Lr);  // R L_led / pi per band; times pi/2 (...) below
+  auto lb = to_bands(sc, spectrum(sc));
   auto f = [&](const glm::dvec3& p, std::vector<double>& out) {
     double rho2 = p.x * p.x + p.y * p.y;
     double e = 0.5 * kPi * (1 - (h * h + rho2 - a * a) / std::sqrt((h * h + rho2 + a * a) * (h * h + rho2 + a * a) - 4 * rho2 * a * a));
@@ -104,11 +108,22 @@ BenchResult disk_led(const BenchOptions& o) {
     return q.x * q.x + q.y * q.y <= a * a * 1.05;
   };
   Reference ref = plane_reference(sc, f, blocked);
-  // The on-axis point seen by the camera.
   const auto& c = sc.camera;
   int cx = c.width / 2, cy = c.height / 2;
-  auto b = compare("disk_led", sc, r.result.image, ref, {{"on-axis", {cx - 3, cy - 3, cx + 3, cy + 3}}, {"whole", {0, 0, c.width, c.height}}});
+  auto b = compare(name, sc, r.result.image, ref, {{"on-axis", {cx - 3, cy - 3, cx + 3, cy + 3}}, {"whole", {0, 0, c.width, c.height}}});
   return finish(b, r, o);
+}
+
+namespace {
+
+BenchResult disk_led(const BenchOptions& o) {
+  return disk_led_case(o, "disk_led", {{"type", "lambertian"}, {"reflectance", 0.6}}, [](const Scene& sc) {
+    const LedLight& led = sc.lights[0];
+    double area = sc.lights[0].area();
+    std::vector<double> v(sc.grid().size());
+    for (size_t i = 0; i < v.size(); ++i) v[i] = sc.materials[0].reflectance[i] * led.spectral_intensity[i] / area / kPi;
+    return v;
+  });
 }
 
 // Case 3: inside a closed Lambertian sphere of reflectance R that emits Le uniformly, the
@@ -151,6 +166,7 @@ std::vector<BenchCaseInfo> bench_cases() {
       {"closed_sphere", "camera inside a closed emitting Lambertian sphere: L = Le / (1 - R) per wavelength (multiple bounces, Russian roulette)", 256},
       {"fluorescent_patch", "fluorescent patch (R + NADH + FAD + collagen) under a tilted broadband point LED: L(em) = [R E(em) + sum_ex Phi(em, ex) E(ex) dlambda] / pi in photon units", 256},
       {"fluorescent_patch_385", "the fluorescent patch under a narrow 385 nm LED whose light lies far below the emission bands", 256},
+      {"fluorescent_disk_led", "fluorescent patch under a violet Lambertian disk LED: the disk formula with L(em) = [R L(em) + sum_ex Phi(em, ex) L(ex) dlambda] / pi; checks how next-event estimation and BSDF hits of the LED share fluorescent paths", 256},
       {"fluorescent_sphere", "closed sphere with albedo matrix A = diag(R) + Phi dlambda (NADH exciting FAD) and emission Le: L = (I - A)^-1 Le in every band (cascades, energy conservation)", 512},
       {"reradiation_only", "pure re-radiation (R = 0) under a 420-430 nm LED: exactly no radiance at or below the lowest excitation wavelength, and the closed form above it", 256},
   };
@@ -163,6 +179,7 @@ BenchResult run_bench_case(const std::string& name, const BenchOptions& o) {
   if (name == "fluorescent_patch") return fluorescent_patch(o, false);
   if (name == "fluorescent_patch_385") return fluorescent_patch(o, true);
   if (name == "fluorescent_sphere") return fluorescent_sphere(o);
+  if (name == "fluorescent_disk_led") return fluorescent_disk_led(o);
   if (name == "reradiation_only") return reradiation_only(o);
   std::string names;
   for (auto& c : bench_cases()) names += (names.empty() ? "" : ", ") + c.name;

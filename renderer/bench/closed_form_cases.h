@@ -11,6 +11,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "renderer/scene/scene.h"
+
 namespace ofl {
 
 struct BenchRegion {
@@ -56,5 +58,10 @@ inline BenchResult run_bench_case(const std::string& name, int spp, uint64_t see
 BenchResult fluorescent_patch(const BenchOptions& o, bool narrow_385);
 BenchResult fluorescent_sphere(const BenchOptions& o);
 BenchResult reradiation_only(const BenchOptions& o);
+BenchResult fluorescent_disk_led(const BenchOptions& o);
+// The disk-LED geometry with any patch material; `spectrum` gives per grid bin the patch radiance
+// in W sr^-1 m^-2 nm^-1 per unit of the disk's geometric factor E / L_led.
+BenchResult disk_led_case(const BenchOptions& o, const std::string& name, const nlohmann::json& material,
+                          const std::function<std::vector<double>(const Scene&)>& spectrum);
 
 }  // namespace ofl

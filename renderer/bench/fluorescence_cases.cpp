@@ -189,4 +189,19 @@ BenchResult reradiation_only(const BenchOptions& o) {
   return finish(b, r, o);
 }
 
+BenchResult fluorescent_disk_led(const BenchOptions& o) {
+  json mat = {{"type", "fluorescent"}, {"reflectance", tongue_reflectance()},
+              {"fluorophores", {{{"name", "FAD"}, {"concentration", 0.3}}, {{"name", "collagen"}, {"concentration", 0.2}}}}};
+  return disk_led_case(o, "fluorescent_disk_led", mat, [](const Scene& sc) {
+    const LedLight& led = sc.lights[0];
+    const Material& m = sc.materials[0];
+    int n = sc.grid().size();
+    Eigen::VectorXd Lq(n);
+    for (int i = 0; i < n; ++i) Lq(i) = led.spectral_photons[i] / led.area();
+    Eigen::VectorXd out = mixture_eem(sc, m) * sc.grid().step_nm * Lq;
+    for (int i = 0; i < n; ++i) out(i) += m.reflectance[i] * Lq(i);
+    return photons_to_watts(sc, out / kPi);
+  });
+}
+
 }  // namespace ofl

@@ -16,6 +16,7 @@
 #include "renderer/cli/commands.h"
 #include "renderer/core/asset_path.h"
 #include "renderer/core/error.h"
+#include "renderer/image/spectral_exr.h"
 #include "renderer/spectral/fluorophore_library.h"
 #include "renderer/spectral/spectrum_json.h"
 #include "renderer/spectral/units.h"
@@ -68,16 +69,43 @@ std::vector<std::string> split_list(const std::string& s) {
 
 }  // namespace
 
+// Pixels of the raw image that see scene material `name`, from the aov.material plane of the
+// radiance EXR the camera was run on (named in the raw.json sidecar).
+static std::vector<uint8_t> material_mask(const RawImage& raw, const std::string& raw_file, const std::string& name) {
+  if (raw.sidecar.is_null() || !raw.sidecar.contains("radiance") || !raw.sidecar["radiance"].contains("file"))
+    throw InputError(raw_file, "--roi-material", "raw.json does not name the radiance EXR");
+  std::string exr = raw.sidecar["radiance"]["file"].get<std::string>();
+  SpectralImage img = read_spectral_exr(exr);
+  auto it = img.aovs.find("aov.material");
+  if (it == img.aovs.end() || !img.attributes.count("oralfluor.materials"))
+    throw InputError(exr, "--roi-material", "the radiance EXR has no aov.material plane (render it with oralfluor render)");
+  if (img.width != raw.width || img.height != raw.height)
+    throw InputError(exr, "--roi-material", "the radiance EXR and the raw image differ in size");
+  auto names = nlohmann::json::parse(img.attributes.at("oralfluor.materials"));
+  int index = -1;
+  std::string have;
+  for (size_t i = 0; i < names.size(); ++i) {
+    if (names[i] == name) index = int(i);
+    have += (have.empty() ? "" : ", ") + names[i].get<std::string>();
+  }
+  if (index < 0) throw InputError(exr, "--roi-material", "no material \"" + name + "\" in the scene (have: " + have + ")");
+  std::vector<uint8_t> mask(it->second.size());
+  for (size_t i = 0; i < mask.size(); ++i) mask[i] = std::lround(it->second[i]) == index;
+  return mask;
+}
+
 void register_chroma_command(CLI::App& app) {
   struct Opts {
-    std::string raw, roi, out, led, reflectance, fluorophores, concentrations, name = "chroma";
+    std::string raw, roi, out, led, reflectance, fluorophores, concentrations, name = "chroma", roi_material;
     double grid_step = 1.0;
     bool json = false, include_saturated = false;
   };
   auto o = std::make_shared<Opts>();
   auto* cmd = app.add_subcommand("chroma", "r,g chromaticity of a raw mosaic in a region, with fluorophore reference lines");
   cmd->add_option("raw", o->raw, "raw.tiff written by `oralfluor camera` (raw.json beside it)")->required();
-  cmd->add_option("--roi", o->roi, "region x,y,w,h in pixels")->required();
+  cmd->add_option("--roi", o->roi, "region x,y,w,h in pixels (default: the whole image)");
+  cmd->add_option("--roi-material", o->roi_material,
+                  "only cells that see this scene material (from the radiance EXR's aov.material plane)");
   cmd->add_option("-o,--out", o->out, "output folder (default: the raw file's folder)");
   cmd->add_option("--name", o->name, "output file stem (default: chroma)");
   cmd->add_option("--led", o->led, "LED spectrum (CSV, or JSON) when the raw.json has no oralfluor.excitation_spd");
@@ -89,13 +117,16 @@ void register_chroma_command(CLI::App& app) {
   cmd->add_flag("--include-saturated", o->include_saturated, "keep cells with a value at the white level");
   cmd->add_flag("--json", o->json, "print the results as JSON");
   cmd->callback([o] {
-    Roi roi;
-    if (!parse_roi(o->roi, &roi)) throw InputError("", "--roi", "expected x,y,w,h with w, h > 0 (got \"" + o->roi + "\")");
     RawImage raw = read_raw(o->raw);
+    Roi roi{0, 0, raw.width, raw.height};
+    if (!o->roi.empty() && !parse_roi(o->roi, &roi))
+      throw InputError("", "--roi", "expected x,y,w,h with w, h > 0 (got \"" + o->roi + "\")");
+    std::vector<uint8_t> mask;
+    if (!o->roi_material.empty()) mask = material_mask(raw, o->raw, o->roi_material);
     ChromaStats stats;
     try {
       stats = roi_chromaticity(raw.dn, raw.width, raw.height, raw.meta.cfa, raw.meta.black_level_dn,
-                               raw.meta.white_level_dn, roi, o->include_saturated);
+                               raw.meta.white_level_dn, roi, o->include_saturated, mask.empty() ? nullptr : &mask);
     } catch (const InputError& e) {
       throw InputError(o->raw, e.field(), e.what());
     }

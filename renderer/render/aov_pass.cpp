@@ -13,7 +13,7 @@ namespace ofl {
 double led_irradiance(const Scene& scene, const EmbreeScene& embree, const SurfacePoint& sp) {
   double e = 0;
   for (const LedLight& l : scene.lights) {
-    int n = l.is_point() ? 1 : 8;
+    int n = l.is_point() ? 1 : 3;
     double sum = 0;
     for (int a = 0; a < n; ++a)
       for (int b = 0; b < n; ++b) {

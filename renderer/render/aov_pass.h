@@ -16,7 +16,7 @@ namespace ofl {
 std::map<std::string, std::vector<float>> compute_aovs(const Scene& scene, const EmbreeScene& embree);
 
 // LED irradiance at point p with normal n (W m^-2, all lights, shadowed); disk LEDs are
-// integrated with a fixed 8 x 8 stratified pattern.
+// integrated with a fixed 3 x 3 stratified pattern.
 double led_irradiance(const Scene& scene, const EmbreeScene& embree, const SurfacePoint& sp);
 
 }  // namespace ofl

@@ -53,6 +53,12 @@ double PathTracer::sample_pixel(int x, int y, Rng& rng, double* bands, RayCounts
   int film[kLanes], wl[kLanes];
   float beta[kLanes], L[kLanes], Lf[kLanes];
   bool fl[kLanes];  // the lane's light has been re-radiated (it is fluorescence)
+  // The lane was re-radiated at the previous vertex. With deterministic direct excitation, next-event
+  // estimation there already counted all LED light exciting that vertex (weight 1), so a BSDF-sampled
+  // hit of an LED right after a re-radiation counts 0: a one-or-nothing partition instead of MIS,
+  // because the directional MIS weights ignore how poorly the sampled excitation wavelength
+  // matches a narrow LED line.
+  bool rerad_prev[kLanes];
   double u0 = rng.next_double();
   for (int k = 0; k < kLanes; ++k) {
     double u = u0 + double(k) / kLanes;
@@ -61,11 +67,13 @@ double PathTracer::sample_pixel(int x, int y, Rng& rng, double* bands, RayCounts
     beta[k] = 1;
     L[k] = Lf[k] = 0;
     fl[k] = false;
+    rerad_prev[k] = false;
   }
 
   Ray ray = camera_ray(x, y, rng);
   counts.camera++;
   double prev_pdf = 0;  // solid-angle pdf of the direction that produced `ray`, 0 = camera/delta
+  bool diffuse_seen = false;  // the path has left a surface through its diffuse lobe
   const int max_depth = scene_.integrator.max_depth;
   for (int depth = 0;; ++depth) {
     record(ray.o, ray.d, 1e30f, false);
@@ -85,6 +93,7 @@ double PathTracer::sample_pixel(int x, int y, Rng& rng, double* bands, RayCounts
         }
         const float* shape = t_.light_shape[t_.light_group[gi.index]].data();
         for (int k = 0; k < kLanes; ++k) {
+          if (deterministic && rerad_prev[k]) continue;
           float c = float(beta[k] * shape[wl[k]] * prof * w);
           L[k] += c;
           if (fl[k]) Lf[k] += c;
@@ -116,6 +125,7 @@ double PathTracer::sample_pixel(int x, int y, Rng& rng, double* bands, RayCounts
       lm.conc[j] = f.concentration * factor;
     }
 
+    const GgxCoating& coat = diffuse_seen ? mt.coating_regularized : mt.coating;
     Frame frame(sp.ns);
     glm::dvec3 wo = frame.to_local(wo_w);
     // The base is reached after n internal reflections inside the coating (shared by the lanes);
@@ -126,18 +136,18 @@ double PathTracer::sample_pixel(int x, int y, Rng& rng, double* bands, RayCounts
     for (int k = 0; k < kLanes; ++k) { wl_base[k] = wl[k]; w_base[k] = 1; fl_base[k] = fl[k]; }
     if (mt.coated) {
       int bounces = 0;
-      while (bounces < 64 && rng.next_double() < mt.coating.internal_reflectance) ++bounces;
+      while (bounces < 64 && rng.next_double() < coat.internal_reflectance) ++bounces;
       for (int b = 0; b < bounces; ++b)
         for (int k = 0; k < kLanes; ++k)
           if (beta[k] > 0) w_base[k] *= albedo_step(lm, wl_base[k], rng, n, &fl_base[k]);
     }
-    const double p_spec = mt.coated ? std::clamp(mt.coating.specular_albedo(wo.z), 0.1, 0.9) : 0.0;
+    const double p_spec = mt.coated ? std::clamp(coat.specular_albedo(wo.z), 0.1, 0.9) : 0.0;
     auto kernel = [&](const glm::dvec3& wi) {
-      return mt.coated ? mt.coating.diffuse_kernel(wi.z, wo.z) : 1.0 / kPi;
+      return mt.coated ? coat.diffuse_kernel(wi.z, wo.z) : 1.0 / kPi;
     };
     auto dir_pdf = [&](const glm::dvec3& wi) {
       double pd = cosine_hemisphere_pdf(wi.z);
-      return mt.coated ? p_spec * mt.coating.pdf(wo, wi) + (1 - p_spec) * pd : pd;
+      return mt.coated ? p_spec * coat.pdf(wo, wi) + (1 - p_spec) * pd : pd;
     };
 
     // Next-event estimation to one LED chosen by power.
@@ -165,14 +175,14 @@ double PathTracer::sample_pixel(int x, int y, Rng& rng, double* bands, RayCounts
           double g = led.profile.eval(cos_l) * wi.z / dist2 / pl * t_.light_scale[li];
           double w = 1.0;
           if (!led.is_point()) w = power_heuristic(pl * dist2 / (led.area() * cos_l), dir_pdf(wi));
-          double fs = mt.coated ? mt.coating.eval(wo, wi) : 0.0;
+          double fs = mt.coated ? coat.eval(wo, wi) : 0.0;
           double kd = kernel(wi);
           int grp = t_.light_group[li];
           const float* shape = t_.light_shape[grp].data();
           for (int k = 0; k < kLanes; ++k) {
             if (beta[k] == 0) continue;
             int b = wl_base[k];
-            double reflected, fluoresced = 0;
+            double reflected = 0, fluoresced = 0;
             if (deterministic || lm.nf == 0) {
               reflected = mt.reflectance[b] * lm.rscale * shape[b];
               for (int j = 0; j < lm.nf; ++j) fluoresced += lm.conc[j] * mt.fluorophores[j].direct[grp][b];
@@ -184,7 +194,7 @@ double PathTracer::sample_pixel(int x, int y, Rng& rng, double* bands, RayCounts
             }
             double spec = beta[k] * fs * shape[wl[k]] * g * w;
             double dif_r = beta[k] * kd * w_base[k] * reflected * g * w;
-            double dif_f = beta[k] * kd * w_base[k] * fluoresced * g * w;
+            double dif_f = beta[k] * kd * w_base[k] * fluoresced * g * (deterministic ? 1.0 : w);
             L[k] += float(spec + dif_r + dif_f);
             Lf[k] += float((fl[k] ? spec : 0.0) + (fl_base[k] ? dif_r : 0.0) + dif_f);
           }
@@ -194,14 +204,18 @@ double PathTracer::sample_pixel(int x, int y, Rng& rng, double* bands, RayCounts
 
     // Continue the path: one direction for all lanes, then each lane picks its event.
     glm::dvec3 wi;
-    if (mt.coated && rng.next_double() < p_spec) wi = mt.coating.sample(wo, rng.next_double(), rng.next_double());
-    else wi = sample_cosine_hemisphere(rng.next_double(), rng.next_double());
+    if (mt.coated && rng.next_double() < p_spec) {
+      wi = coat.sample(wo, rng.next_double(), rng.next_double());
+    } else {
+      wi = sample_cosine_hemisphere(rng.next_double(), rng.next_double());
+      diffuse_seen = scene_.integrator.regularize_glossy > 0;
+    }
     if (wi.z <= 0) break;
     glm::dvec3 wi_w = frame.to_world(wi);
     if (glm::dot(wi_w, sp.ng) <= 0) break;
     double pdf = dir_pdf(wi);
     if (!(pdf > 0)) break;
-    double fs = mt.coated ? mt.coating.eval(wo, wi) : 0.0;
+    double fs = mt.coated ? coat.eval(wo, wi) : 0.0;
     double kd = kernel(wi);
     double geo = wi.z / pdf;
     float maxb = 0;
@@ -214,12 +228,14 @@ double PathTracer::sample_pixel(int x, int y, Rng& rng, double* bands, RayCounts
       double tot = a + r + f;
       if (!(tot > 0)) { beta[k] = 0; continue; }
       double u = rng.next_double() * tot;
+      rerad_prev[k] = false;
       if (u >= a) {
         wl[k] = b;
         fl[k] = fl_base[k];
         if (u >= a + r) {
           wl[k] = sample_excitation(lm, b, fluor_total(lm, b), rng.next_float(), n);
           fl[k] = true;
+          rerad_prev[k] = true;
         }
       }
       beta[k] = float(beta[k] * tot * geo);

@@ -42,7 +42,12 @@ RenderTables::RenderTables(const Scene& sc, const std::vector<double>& importanc
     }
     t.reflectance_texture = m.reflectance_texture;
     t.coated = m.coating.enabled;
-    if (t.coated) t.coating.prepare(m.coating.ior, m.coating.roughness);
+    if (t.coated) {
+      t.coating.prepare(m.coating.ior, m.coating.roughness);
+      double reg = sc.integrator.regularize_glossy;
+      if (reg > m.coating.roughness) t.coating_regularized.prepare(m.coating.ior, reg);
+      else t.coating_regularized = t.coating;
+    }
     if (fluo) {
       for (const auto& f : m.fluorophores) {
         if (f.concentration <= 0) continue;

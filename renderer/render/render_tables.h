@@ -29,6 +29,7 @@ struct MaterialTables {
   int reflectance_texture = -1;
   bool coated = false;
   GgxCoating coating;
+  GgxCoating coating_regularized;  // roughness raised to IntegratorSpec::regularize_glossy
 };
 
 struct RenderTables {

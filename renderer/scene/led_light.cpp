@@ -82,12 +82,33 @@ static LedProfile parse_profile(const JsonNode& n) {
   return p;
 }
 
+static void set_frame(LedLight& l) {
+  glm::dvec3 helper = std::fabs(l.axis.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0);
+  l.tangent = glm::normalize(glm::cross(helper, l.axis));
+  l.bitangent = glm::cross(l.axis, l.tangent);
+}
+
+std::vector<RingPlacement> led_ring_placement(const glm::dvec3& c, const glm::dvec3& a, const glm::dvec3& reference,
+                                              double r, int count, double tilt_deg, double start_deg) {
+  glm::dvec3 e1 = glm::normalize(reference - glm::dot(reference, a) * a);
+  glm::dvec3 e2 = glm::cross(a, e1);
+  std::vector<RingPlacement> out;
+  double tilt = tilt_deg * kPi / 180.0;
+  for (int i = 0; i < count; ++i) {
+    double phi = start_deg * kPi / 180.0 + 2.0 * kPi * i / count;
+    glm::dvec3 radial = std::cos(phi) * e1 + std::sin(phi) * e2;
+    // Tilting toward the axis turns the LED's axis from a toward -radial.
+    out.push_back({c + r * radial, glm::normalize(std::cos(tilt) * a - std::sin(tilt) * radial)});
+  }
+  return out;
+}
+
+static void parse_emitter(const JsonNode& n, const WavelengthGrid& grid, LedLight& l);
+
 LedLight parse_led(const JsonNode& n, const WavelengthGrid& grid) {
   n.check_keys({"type", "name", "spd", "filter", "filters", "radiant_intensity_W_sr", "flux_W", "profile", "radius_m",
                 "position", "axis", "target"});
   LedLight l;
-  std::string type = n.string_or("type", "led");
-  if (type != "led") n.at("type").fail("unknown light type \"" + type + "\" (expected led)");
   l.name = n.string_or("name", "");
   l.position = n.at("position").vec3();
   if (n.has("axis") == n.has("target")) n.fail("give exactly one of axis or target");
@@ -97,9 +118,56 @@ LedLight parse_led(const JsonNode& n, const WavelengthGrid& grid) {
     if (glm::length(d) < 1e-12) n.at("target").fail("target equals position");
     l.axis = glm::normalize(d);
   }
-  glm::dvec3 helper = std::fabs(l.axis.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0);
-  l.tangent = glm::normalize(glm::cross(helper, l.axis));
-  l.bitangent = glm::cross(l.axis, l.tangent);
+  set_frame(l);
+  parse_emitter(n, grid, l);
+  return l;
+}
+
+// {"type": "led_ring", "count": 6, "ring_radius_m": 0.01, "center": [...], "axis": [...] | "target": [...],
+//  "tilt_deg": 10 | "aim_distance_m": 0.05, "start_deg": 0, "reference": [0, 0, 1], ...LED emitter fields}
+static std::vector<LedLight> parse_led_ring(const JsonNode& n, const WavelengthGrid& grid) {
+  n.check_keys({"type", "name", "spd", "filter", "filters", "radiant_intensity_W_sr", "flux_W", "profile", "radius_m",
+                "count", "ring_radius_m", "center", "axis", "target", "tilt_deg", "aim_distance_m", "start_deg", "reference"});
+  int count = n.at("count").integer(1, 1000);
+  double r = n.at("ring_radius_m").number(0.0, 10.0);
+  glm::dvec3 c = n.at("center").vec3();
+  if (n.has("axis") == n.has("target")) n.fail("give exactly one of axis or target");
+  glm::dvec3 a;
+  if (auto ax = n.find("axis")) a = ax->unit_vec3();
+  else {
+    glm::dvec3 d = n.at("target").vec3() - c;
+    if (glm::length(d) < 1e-12) n.at("target").fail("target equals center");
+    a = glm::normalize(d);
+  }
+  if (n.has("tilt_deg") && n.has("aim_distance_m")) n.fail("give at most one of tilt_deg or aim_distance_m");
+  double tilt = n.number_or("tilt_deg", 0.0, -89.0, 89.0);
+  if (auto d = n.find("aim_distance_m")) tilt = std::atan2(r, d->positive()) * 180.0 / kPi;
+  glm::dvec3 ref = n.find("reference") ? n.at("reference").unit_vec3() : (std::fabs(a.z) < 0.9 ? glm::dvec3(0, 0, 1) : glm::dvec3(1, 0, 0));
+  if (glm::length(glm::cross(ref, a)) < 1e-6) n.at("reference").fail("reference is parallel to the ring axis");
+  LedLight proto;
+  parse_emitter(n, grid, proto);
+  std::vector<LedLight> out;
+  auto places = led_ring_placement(c, a, ref, r, count, tilt, n.number_or("start_deg", 0.0));
+  for (size_t i = 0; i < places.size(); ++i) {
+    LedLight l = proto;
+    l.name = n.string_or("name", "ring") + "[" + std::to_string(i) + "]";
+    l.position = places[i].position;
+    l.axis = places[i].axis;
+    set_frame(l);
+    out.push_back(std::move(l));
+  }
+  return out;
+}
+
+std::vector<LedLight> parse_lights(const JsonNode& n, const WavelengthGrid& grid) {
+  std::string type = n.string_or("type", "led");
+  if (type == "led") return {parse_led(n, grid)};
+  if (type == "led_ring") return parse_led_ring(n, grid);
+  n.at("type").fail("unknown light type \"" + type + "\" (expected led, led_ring)");
+}
+
+// The emitter itself: size, angular profile, spectrum, filters, intensity.
+static void parse_emitter(const JsonNode& n, const WavelengthGrid& grid, LedLight& l) {
   l.radius_m = n.number_or("radius_m", 0.0, 0.0, 1.0);
   l.profile = n.find("profile") ? parse_profile(n.at("profile")) : LedProfile{};
 
@@ -130,7 +198,6 @@ LedLight parse_led(const JsonNode& n, const WavelengthGrid& grid) {
   }
   l.intensity_W_sr = integrate(l.spectral_intensity, grid);
   l.power_W = l.intensity_W_sr * l.profile.solid_angle_integral();
-  return l;
 }
 
 }  // namespace ofl

@@ -41,7 +41,18 @@ struct LedLight {
   bool is_point() const { return radius_m <= 0; }
 };
 
-// Parses one entry of "lights" (see docs/scene-format.md) on the given grid.
+// Parses one entry of "lights" (see docs/scene-format.md) on the given grid: an "led" gives one
+// light, an "led_ring" gives `count` identical LEDs evenly spaced on a circle.
+std::vector<LedLight> parse_lights(const JsonNode& node, const WavelengthGrid& grid);
 LedLight parse_led(const JsonNode& node, const WavelengthGrid& grid);
+
+// Positions and axes of a ring of LEDs: centre c, ring axis a (unit; the LEDs face along it),
+// ring radius r, each LED tilted by tilt_deg toward the axis (positive converges), first LED at
+// start_deg measured from `reference` (a unit vector perpendicular to a).
+struct RingPlacement {
+  glm::dvec3 position, axis;
+};
+std::vector<RingPlacement> led_ring_placement(const glm::dvec3& c, const glm::dvec3& a, const glm::dvec3& reference,
+                                              double r, int count, double tilt_deg, double start_deg);
 
 }  // namespace ofl

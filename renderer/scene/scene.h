@@ -39,6 +39,10 @@ struct IntegratorSpec {
   DirectExcitation direct_excitation = DirectExcitation::kDeterministic;
   bool fluorescence = true;   // false: fluorophores are ignored (for cost/contrast comparisons)
   double noise_target = 0;    // > 0: stop adding passes once the relative noise falls below this
+  // > 0: after a path's first diffuse bounce, wet coatings are treated as at least this rough
+  // (path regularisation, Kaplanyan & Dachsbacher 2013). Biased but removes the fireflies of LED
+  // highlights seen through a diffuse/fluorescent bounce; 0 (default) = exact.
+  double regularize_glossy = 0;
 };
 
 struct SphereShape {

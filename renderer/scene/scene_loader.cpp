@@ -18,7 +18,7 @@ constexpr int kFormatVersion = 1;
 
 IntegratorSpec parse_integrator(const JsonNode& n) {
   n.check_keys({"spp", "max_depth", "rr_start_depth", "seed", "wavelengths", "output_bands", "direct_excitation",
-                "fluorescence", "noise_target"});
+                "fluorescence", "noise_target", "regularize_glossy"});
   IntegratorSpec s;
   s.spp = n.integer_or("spp", s.spp, 1, 1 << 24);
   s.max_depth = n.integer_or("max_depth", s.max_depth, 0, 100000);
@@ -46,6 +46,7 @@ IntegratorSpec parse_integrator(const JsonNode& n) {
   s.direct_excitation = de == "sampled" ? IntegratorSpec::DirectExcitation::kSampled : IntegratorSpec::DirectExcitation::kDeterministic;
   s.fluorescence = n.boolean_or("fluorescence", true);
   s.noise_target = n.number_or("noise_target", 0.0, 0.0, 1.0);
+  s.regularize_glossy = n.number_or("regularize_glossy", 0.0, 0.0, 1.0);
   return s;
 }
 
@@ -135,7 +136,8 @@ Scene load_scene(const JsonFile& doc, const SceneOverrides& ov) {
   if (sc.meshes.empty() && sc.spheres.empty() && sc.disks.empty()) r.at("geometry").fail("the scene has no geometry");
 
   if (auto lights = r.find("lights")) {
-    for (size_t i = 0; i < lights->size(); ++i) sc.lights.push_back(parse_led(lights->at(i), sc.grid()));
+    for (size_t i = 0; i < lights->size(); ++i)
+      for (auto& l : parse_lights(lights->at(i), sc.grid())) sc.lights.push_back(std::move(l));
     // Lights with identical spectra share precomputed direct-excitation tables.
     for (size_t i = 0; i < sc.lights.size(); ++i) {
       sc.lights[i].spd_group = static_cast<int>(i);
