@@ -49,7 +49,7 @@ TEST(CameraCli, WritesRawSidecarDngElectronsAndPreview) {
   CommandResult r = run_oralfluor("camera " + exr.string() + " --camera " + kOralEye + " -o " + out.string() + " --json", dir);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   nlohmann::json s = nlohmann::json::parse(r.out);
-  for (const char* f : {"raw.tiff", "raw.json", "raw.dng", "electrons.exr", "preview.png"})
+  for (const char* f : {"raw.tiff", "raw.json", "raw.dng", "electrons.exr", "camera_preview.png"})
     EXPECT_TRUE(std::filesystem::is_regular_file(out / f)) << f;
 
   // The TIFF and its sidecar carry the raw numbers.
@@ -169,7 +169,7 @@ TEST(CameraCli, BadInputsGiveOneLineErrorAndExitCode2) {
   ASSERT_EQ(run_oralfluor("camera " + exr.string() + " --camera " + kOralEye + " -o " + out.string(), dir).exit_code, 0);
   expect_error("chroma " + (out / "raw.tiff").string() + " --roi 1,2,3", "--roi: expected x,y,w,h");
   expect_error("chroma " + (out / "raw.tiff").string() + " --roi 40,0,16,16", "--roi: region 40,0,16,16 leaves the 48x32 image");
-  expect_error("chroma " + (out / "preview.png").string() + " --roi 0,0,8,8", "not a raw mosaic: 3 channels");
+  expect_error("chroma " + (out / "camera_preview.png").string() + " --roi 0,0,8,8", "not a raw mosaic: 3 channels");
   expect_error("chroma " + (dir / "nothing.tiff").string() + " --roi 0,0,8,8", "nothing.tiff: file not found");
   expect_error("chroma " + (out / "raw.tiff").string() + " --roi 0,0,8,8 --led " + (dir / "noled.csv").string(),
                "noled.csv: --led: file not found");

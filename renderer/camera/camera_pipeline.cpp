@@ -148,7 +148,7 @@ CameraOutputs write_camera_outputs(const CameraRun& run, const CameraDescription
   o.raw_tiff = dir / "raw.tiff";
   o.raw_json = dir / "raw.json";
   o.electrons_exr = dir / "electrons.exr";
-  o.preview_png = dir / "preview.png";
+  o.preview_png = dir / "camera_preview.png";  // not preview.png: the render's own preview may share the folder
   write_raw_tiff(o.raw_tiff, run.raw.dn, run.meta);
   write_raw_sidecar(o.raw_json, run.meta);
   const auto& rad = run.meta.extra.at("radiance");

@@ -1,6 +1,6 @@
 // `oralfluor camera radiance.exr --camera camera.json -o out/`: simulates a camera (lens, filter
 // stack, sensor with EMVA 1288 noise) on a spectral radiance EXR and writes raw.tiff + raw.json,
-// raw.dng, electrons.exr and preview.png. See docs/camera.md.
+// raw.dng, electrons.exr and camera_preview.png. See docs/camera.md.
 #include <cstdio>
 
 #include "renderer/camera/camera_pipeline.h"

@@ -222,9 +222,10 @@ void register_chroma_command(CLI::App& app) {
     plot.stats = stats;
     plot.lines = lines;
     char title[256];
-    std::snprintf(title, sizeof title, "%s  ROI %d,%d,%d,%d: %zu cells, mean r = %.4f, g = %.4f",
-                  std::filesystem::path(o->raw).filename().string().c_str(), roi.x, roi.y, roi.w, roi.h, stats.used,
-                  stats.mean_r, stats.mean_g);
+    std::string where = o->roi_material.empty() ? "" : " seeing " + o->roi_material;
+    std::snprintf(title, sizeof title, "%s  ROI %d,%d,%d,%d%s: %zu cells, mean r = %.4f, g = %.4f",
+                  std::filesystem::path(o->raw).filename().string().c_str(), roi.x, roi.y, roi.w, roi.h, where.c_str(),
+                  stats.used, stats.mean_r, stats.mean_g);
     plot.title = title;
     plot.subtitle = lines.empty() ? "no reference lines"
                                   : "lines: tongue reflectance + increasing fluorophore concentration under the LED, "
@@ -237,7 +238,7 @@ void register_chroma_command(CLI::App& app) {
       cells.precision(9);
       for (auto& p : stats.rg) cells << p[0] << "," << p[1] << "\n";
     }
-    nlohmann::json result = {{"raw", o->raw}, {"stats", stats.to_json()}, {"reference", ref_info},
+    nlohmann::json result = {{"raw", o->raw}, {"roi_material", o->roi_material}, {"stats", stats.to_json()}, {"reference", ref_info},
                              {"lines", nlohmann::json::array()}, {"warnings", warnings}};
     for (auto& l : lines) result["lines"].push_back(l.to_json());
     auto jpath = stem;
@@ -253,8 +254,8 @@ void register_chroma_command(CLI::App& app) {
       std::printf("%s\n", result.dump(2).c_str());
       return;
     }
-    std::printf("ROI %d,%d,%d,%d of %s: %zu of %zu cells used (%zu saturated, %zu without signal)\n", roi.x, roi.y,
-                roi.w, roi.h, o->raw.c_str(), stats.used, stats.cells, stats.saturated, stats.nonpositive);
+    std::printf("ROI %d,%d,%d,%d%s of %s: %zu of %zu cells used (%zu saturated, %zu without signal)\n", roi.x, roi.y,
+                roi.w, roi.h, where.c_str(), o->raw.c_str(), stats.used, stats.cells, stats.saturated, stats.nonpositive);
     std::printf("mean r = %.5f  g = %.5f   cov rr = %.3g rg = %.3g gg = %.3g\n", stats.mean_r, stats.mean_g, stats.cov_rr,
                 stats.cov_rg, stats.cov_gg);
     std::printf("95%% ellipse: semi-axes %.4g, %.4g at %.1f deg\n", stats.ellipse95.a, stats.ellipse95.b,

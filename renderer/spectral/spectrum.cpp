@@ -70,6 +70,24 @@ Spectrum product_spectrum(const std::vector<Spectrum>& factors) {
           std::move(kinks), desc};
 }
 
+Spectrum sum_spectrum(const std::vector<Spectrum>& terms) {
+  std::vector<double> kinks;
+  std::string desc;
+  for (auto& f : terms) {
+    kinks.insert(kinks.end(), f.kinks.begin(), f.kinks.end());
+    desc += (desc.empty() ? "" : " + ") + f.description;
+  }
+  std::sort(kinks.begin(), kinks.end());
+  kinks.erase(std::unique(kinks.begin(), kinks.end()), kinks.end());
+  auto ts = terms;
+  return {[ts](double wl) {
+            double v = 0.0;
+            for (auto& f : ts) v += f.eval(wl);
+            return v;
+          },
+          std::move(kinks), desc};
+}
+
 Spectrum scaled_spectrum(Spectrum s, double factor) {
   auto inner = s.eval;
   s.eval = [inner, factor](double wl) { return factor * inner(wl); };

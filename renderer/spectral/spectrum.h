@@ -40,6 +40,7 @@ Spectrum gaussian_spectrum(double peak_nm, double fwhm_nm);
 // Planck's law, normalised to 1 at its peak (relative SPD of a blackbody at `kelvin`).
 Spectrum blackbody_spectrum(double kelvin);
 Spectrum product_spectrum(const std::vector<Spectrum>& factors);
+Spectrum sum_spectrum(const std::vector<Spectrum>& terms);
 Spectrum scaled_spectrum(Spectrum s, double factor);
 
 // Planck spectral radiance in W sr^-1 m^-2 nm^-1 (absolute).

@@ -81,9 +81,28 @@ Spectrum parse_spectrum(const JsonNode& node, SpectrumKind kind) {
     if (fs.empty()) f.fail("needs at least one factor");
     return product_spectrum(fs);
   }
+  if (type == "sum") {
+    // Terms may carry weights: {"type": "sum", "terms": [<spectrum>, ...], "weights": [1, 0.5]}.
+    node.check_keys({"type", "terms", "weights"});
+    JsonNode t = node.at("terms");
+    std::vector<double> w(t.size(), 1.0);
+    if (auto wn = node.find("weights")) {
+      if (wn->size() != t.size()) wn->fail("needs one weight per term");
+      for (size_t i = 0; i < w.size(); ++i) w[i] = wn->at(i).number(0.0);
+    }
+    std::vector<Spectrum> ts;
+    for (size_t i = 0; i < t.size(); ++i) ts.push_back(scaled_spectrum(parse_spectrum(t.at(i), SpectrumKind::kEmission), w[i]));
+    if (ts.empty()) t.fail("needs at least one term");
+    Spectrum s = sum_spectrum(ts);
+    if (kind != SpectrumKind::kEmission) {
+      for (double x = 200; x <= 2000; x += 1)
+        if (s.eval(x) > 1.0 + 1e-9) node.fail("sum exceeds 1 at " + std::to_string(int(x)) + " nm for a reflectance/transmittance");
+    }
+    return s;
+  }
   node.at("type").fail("unknown spectrum type \"" + type +
                        "\" (expected constant, csv, points, gaussian, blackbody, longpass, shortpass, "
-                       "bandpass, measured, product)");
+                       "bandpass, measured, product, sum)");
 }
 
 OpticalFilter parse_filter(const JsonNode& node) {

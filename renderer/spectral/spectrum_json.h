@@ -8,6 +8,7 @@
 //   {"type": "blackbody", "temperature_K": 3000}
 //   {"type": "longpass" | "shortpass" | "bandpass", ...filter fields...}
 //   {"type": "product", "factors": [<spectrum>, ...]}
+//   {"type": "sum", "terms": [<spectrum>, ...], "weights": [1.0, 0.6]}   e.g. a phosphor white LED
 // Relative file paths are relative to the file that names them.
 #pragma once
 #include "renderer/core/json_node.h"
