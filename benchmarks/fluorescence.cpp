@@ -28,8 +28,8 @@ int main(int argc, char** argv) {
   tbb::global_control gc(tbb::global_control::max_allowed_parallelism, 2);
   nlohmann::json out;
   for (const char* c : {"fluorescent_patch_385", "fluorescent_patch", "reradiation_only"}) {
-    BenchResult d = run_bench_case(c, BenchOptions{spp, 1, false});
-    BenchResult s = run_bench_case(c, BenchOptions{spp, 1, true});
+    BenchResult d = run_bench_case(c, BenchOptions{spp, 1, false, ""});
+    BenchResult s = run_bench_case(c, BenchOptions{spp, 1, true, ""});
     double eff_d = 1.0 / (d.rms_pixel_rel_error * d.rms_pixel_rel_error * d.seconds);
     double eff_s = 1.0 / (s.rms_pixel_rel_error * s.rms_pixel_rel_error * s.seconds);
     // Error the sampled estimator would reach in the deterministic estimator's time.

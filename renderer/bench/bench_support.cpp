@@ -122,13 +122,15 @@ BenchResult compare(const std::string& name, const Scene& sc, const SpectralImag
 }
 
 json base_scene(const BenchOptions& o, int max_depth, double gmin, double gmax, double band_step) {
-  return {{"format", "oralfluor-scene"},
+  json j = {{"format", "oralfluor-scene"},
           {"version", 1},
           {"integrator",
            {{"spp", o.spp}, {"seed", o.seed}, {"max_depth", max_depth}, {"rr_start_depth", 3},
             {"direct_excitation", o.sampled_excitation ? "sampled" : "deterministic"},
             {"wavelengths", {{"min_nm", gmin}, {"max_nm", gmax}, {"step_nm", 5}}},
             {"output_bands", {{"min_nm", 400}, {"max_nm", 700}, {"step_nm", band_step}}}}}};
+  if (!o.importance_camera.empty()) j["integrator"]["importance_camera"] = o.importance_camera;
+  return j;
 }
 
 Rendered render_json(const json& j, const std::string& name) {

@@ -46,12 +46,13 @@ struct BenchOptions {
   int spp = 64;
   uint64_t seed = 1;
   bool sampled_excitation = false;  // sample excitation wavelengths instead of summing them
+  std::string importance_camera;    // sample camera wavelengths by this camera's system QE (half)
 };
 
 // Runs one case; throws InputError for an unknown name.
 BenchResult run_bench_case(const std::string& name, const BenchOptions& options);
 inline BenchResult run_bench_case(const std::string& name, int spp, uint64_t seed = 1) {
-  return run_bench_case(name, BenchOptions{spp, seed, false});
+  return run_bench_case(name, BenchOptions{spp, seed, false, ""});
 }
 
 // Fluorescent cases (fluorescence_cases.cpp).

@@ -35,14 +35,14 @@ void register_bench_command(CLI::App& app) {
         if (c.name == o->name) spp = c.default_spp;
     if (spp == 0) spp = 64;
     if (o->json) {
-      std::printf("%s\n", run_bench_case(o->name, BenchOptions{spp, o->seed, o->sampled}).to_json().dump(2).c_str());
+      std::printf("%s\n", run_bench_case(o->name, BenchOptions{spp, o->seed, o->sampled, ""}).to_json().dump(2).c_str());
       return;
     }
     std::vector<int> series;
     for (int s : {spp / 16, spp / 4, spp})
       if (s >= 1 && (series.empty() || s != series.back())) series.push_back(s);
     std::vector<BenchResult> rs;
-    for (int s : series) rs.push_back(run_bench_case(o->name, BenchOptions{s, o->seed, o->sampled}));
+    for (int s : series) rs.push_back(run_bench_case(o->name, BenchOptions{s, o->seed, o->sampled, ""}));
     std::printf("case %s: relative error of the region-mean radiance (mean over bands)\n\n%-16s %8s", o->name.c_str(), "region", "pixels");
     for (auto& r : rs) std::printf("  %5d spp", r.spp);
     std::printf("\n");

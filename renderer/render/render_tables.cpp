@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "renderer/camera/camera_description.h"
+#include "renderer/camera/expected_signal.h"
 #include "renderer/spectral/units.h"
 
 namespace ofl {
@@ -94,6 +96,13 @@ RenderTables::RenderTables(const Scene& sc, const std::vector<double>& importanc
   bands = bs.size();
   band_weights.assign(n, {});
   std::vector<double> useful(n, 0.0);
+  std::vector<double> camera_weight;
+  if (importance.empty() && !sc.integrator.importance_camera.empty()) {
+    CameraDescription cam = load_camera(sc.integrator.importance_camera);
+    camera_weight.assign(n, 0.0);
+    for (int i = 0; i < n; ++i)
+      for (int c = 0; c < 3; ++c) camera_weight[i] += system_qe(cam, c, grid.wavelength(i), 0.0, 0.0);
+  }
   for (int i = 0; i < n; ++i) {
     for (int b = 0; b < bands; ++b) {
       double lo = std::max(grid.bin_lo(i), bs.centre(b) - 0.5 * bs.step_nm);
@@ -101,7 +110,14 @@ RenderTables::RenderTables(const Scene& sc, const std::vector<double>& importanc
       if (hi - lo > 1e-9) band_weights[i].push_back({b, float((hi - lo) / bs.step_nm)});
     }
     useful[i] = band_weights[i].empty() ? 0.0 : 1.0;
-    if (!importance.empty()) useful[i] *= importance[i];
+  }
+  const std::vector<double>& imp = importance.empty() ? camera_weight : importance;
+  if (!imp.empty()) {
+    // Half uniform, half by importance: every band keeps a floor of samples (unbiased everywhere).
+    double su = 0, si = 0;
+    for (int i = 0; i < n; ++i) { su += useful[i]; si += useful[i] * imp[i]; }
+    if (si > 0)
+      for (int i = 0; i < n; ++i) useful[i] = useful[i] * (0.5 / su + 0.5 * imp[i] / si);
   }
   wavelength_pdf = DiscreteDistribution(useful);
   film_scale.assign(n, 0.0);

@@ -43,6 +43,10 @@ struct IntegratorSpec {
   // (path regularisation, Kaplanyan & Dachsbacher 2013). Biased but removes the fireflies of LED
   // highlights seen through a diffuse/fluorescent bounce; 0 (default) = exact.
   double regularize_glossy = 0;
+  // Optional camera description: camera wavelengths are then sampled half uniformly and half in
+  // proportion to the camera's system QE (filters x QE, all channels), so fewer lanes are spent
+  // where the camera is blind; the estimate stays unbiased in every band.
+  std::string importance_camera;
 };
 
 struct SphereShape {

@@ -18,7 +18,7 @@ constexpr int kFormatVersion = 1;
 
 IntegratorSpec parse_integrator(const JsonNode& n) {
   n.check_keys({"spp", "max_depth", "rr_start_depth", "seed", "wavelengths", "output_bands", "direct_excitation",
-                "fluorescence", "noise_target", "regularize_glossy"});
+                "fluorescence", "noise_target", "regularize_glossy", "importance_camera"});
   IntegratorSpec s;
   s.spp = n.integer_or("spp", s.spp, 1, 1 << 24);
   s.max_depth = n.integer_or("max_depth", s.max_depth, 0, 100000);
@@ -47,6 +47,7 @@ IntegratorSpec parse_integrator(const JsonNode& n) {
   s.fluorescence = n.boolean_or("fluorescence", true);
   s.noise_target = n.number_or("noise_target", 0.0, 0.0, 1.0);
   s.regularize_glossy = n.number_or("regularize_glossy", 0.0, 0.0, 1.0);
+  if (auto c = n.find("importance_camera")) s.importance_camera = c->existing_file().string();
   return s;
 }
 
