@@ -2,6 +2,8 @@
 #include "materials/coated.h"
 
 #include <cmath>
+#include <map>
+#include <mutex>
 
 #include <glm/geometric.hpp>
 
@@ -79,6 +81,18 @@ double GgxCoating::diffuse_kernel(double mu_i, double mu_o) const {
 }
 
 void GgxCoating::prepare(double ior_, double alpha_) {
+  // The tables depend only on (ior, alpha) and take ~0.1 s to integrate; scenes (and sweeps) reuse
+  // a few pairs many times, so keep every pair computed in this process.
+  static std::mutex mu;
+  static std::map<std::pair<double, double>, GgxCoating> cache;
+  {
+    std::lock_guard lock(mu);
+    auto it = cache.find({ior_, alpha_});
+    if (it != cache.end()) {
+      *this = it->second;
+      return;
+    }
+  }
   ior = ior_;
   alpha = std::max(alpha_, 1e-3);
   // E_s(mu) = integral f_s cos dwi, by stratified importance sampling of the lobe (deterministic).
@@ -108,6 +122,8 @@ void GgxCoating::prepare(double ior_, double alpha_) {
     fext += 2.0 * fresnel_dielectric(mu, ior) * mu / m;
   }
   internal_reflectance = 1.0 - (1.0 - fext) / (ior * ior);
+  std::lock_guard lock(mu);
+  cache.emplace(std::make_pair(ior_, alpha_), *this);
 }
 
 Material parse_coated(const JsonNode& n, MaterialContext& ctx) {
