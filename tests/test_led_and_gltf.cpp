@@ -44,6 +44,27 @@ TEST(LedProfile, TableOfCosPowerIntegratesLikeTheFormula) {
   EXPECT_NEAR(l.power_W, 2.0, 1e-9);
 }
 
+TEST(LedProfile, IesFileGivesTheCandelaShape) {
+  // A Lambertian LED written as LM-63: I(theta) = 100 cd cos(theta), two horizontal planes.
+  auto f = std::filesystem::temp_directory_path() / "ofl_lambert.ies";
+  {
+    std::ofstream o(f);
+    o << "IESNA:LM-63-2002\n[TEST] lambertian\nTILT=NONE\n1 -1 1 19 2 1 2 0 0 0\n1 1 1\n";
+    for (int a = 0; a <= 90; a += 5) o << a << " ";
+    o << "\n0 90\n";
+    for (int h = 0; h < 2; ++h) {
+      for (int a = 0; a <= 90; a += 5) o << 100 * std::cos(a * kPi / 180) << " ";
+      o << "\n";
+    }
+  }
+  nlohmann::json led = {{"spd", 1.0}, {"flux_W", 1.0}, {"profile", {{"ies_file", f.string()}}}, {"position", {0, 0, 0}}, {"axis", {0, 0, 1}}};
+  LedLight l = parse_led(JsonFile::from(led, "led").root(), WavelengthGrid{400, 700, 10});
+  EXPECT_NEAR(l.profile.eval(std::cos(60 * kPi / 180)), 0.5, 2e-3);
+  EXPECT_NEAR(l.profile.solid_angle_integral(), kPi, 2e-3);  // Lambertian: pi sr
+  std::ofstream(f) << "IESNA:LM-63-2002\nTILT=NONE\n1 -1 1 19 2 1 2 0 0 0\n1 1 1\n0 5 x\n";
+  EXPECT_THROW(parse_led(JsonFile::from(led, "led").root(), WavelengthGrid{400, 700, 10}), InputError);
+}
+
 TEST(LedLight, ShortPassFilterRemovesPower) {
   nlohmann::json led = {{"spd", {{"type", "gaussian"}, {"peak_nm", 450}, {"fwhm_nm", 20}}}, {"radiant_intensity_W_sr", 1.0},
                         {"filter", {{"type", "shortpass"}, {"edge_nm", 450}, {"width_nm", 0.1}, {"od", 6}, {"peak", 1.0}}},

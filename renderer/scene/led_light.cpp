@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
+#include <fstream>
 
 #include <glm/geometric.hpp>
 
@@ -37,11 +39,50 @@ double LedProfile::solid_angle_integral() const {
 
 double LedLight::area() const { return kPi * radius_m * radius_m; }
 
+// Relative intensity against polar angle from an IES LM-63 photometric file (types C and B with
+// the vertical angle measured from the LED axis): candela averaged over the horizontal angles.
+static std::vector<std::pair<double, double>> read_ies_profile(const std::filesystem::path& file) {
+  std::ifstream in(file);
+  if (!in) throw InputError(file.string(), "", "cannot open IES file");
+  std::string line;
+  int lineno = 0;
+  bool tilt = false;
+  while (std::getline(in, line)) {
+    ++lineno;
+    if (line.rfind("TILT=", 0) == 0) {
+      if (line.substr(5, 4) != "NONE") throw InputError(file.string(), "line " + std::to_string(lineno), "only TILT=NONE is supported");
+      tilt = true;
+      break;
+    }
+  }
+  if (!tilt) throw InputError(file.string(), "", "no TILT= line: not an IES LM-63 file");
+  std::vector<double> v;
+  std::string tok;
+  while (in >> tok) {
+    char* end = nullptr;
+    double x = std::strtod(tok.c_str(), &end);
+    if (end == tok.c_str() || *end != '\0' || !std::isfinite(x)) throw InputError(file.string(), "after TILT", "not a number: \"" + tok + "\"");
+    v.push_back(x);
+  }
+  if (v.size() < 13) throw InputError(file.string(), "header", "truncated photometric header");
+  int nv = int(v[3]), nh = int(v[4]);
+  size_t need = 13 + size_t(nv) + nh + size_t(nv) * nh;
+  if (nv < 2 || nh < 1 || v.size() < need)
+    throw InputError(file.string(), "candela table", "expected " + std::to_string(need) + " numbers, found " + std::to_string(v.size()));
+  std::vector<std::pair<double, double>> rows;
+  for (int i = 0; i < nv; ++i) {
+    double angle = v[13 + i], sum = 0;
+    for (int h = 0; h < nh; ++h) sum += v[13 + nv + nh + size_t(h) * nv + i];
+    if (angle <= 90.0 + 1e-9) rows.push_back({angle, std::max(0.0, sum / nh)});
+  }
+  return rows;
+}
+
 static LedProfile parse_profile(const JsonNode& n) {
   LedProfile p;
-  n.check_keys({"half_angle_deg", "cos_power", "table", "table_file"});
-  int given = n.has("half_angle_deg") + n.has("cos_power") + n.has("table") + n.has("table_file");
-  if (given != 1) n.fail("give exactly one of half_angle_deg, cos_power, table, table_file");
+  n.check_keys({"half_angle_deg", "cos_power", "table", "table_file", "ies_file"});
+  int given = n.has("half_angle_deg") + n.has("cos_power") + n.has("table") + n.has("table_file") + n.has("ies_file");
+  if (given != 1) n.fail("give exactly one of half_angle_deg, cos_power, table, table_file, ies_file");
   if (auto h = n.find("half_angle_deg")) {
     p.cos_power = LedProfile::cos_power_from_half_angle(h->number(0.5, 89.5));
     return p;
@@ -57,6 +98,8 @@ static LedProfile parse_profile(const JsonNode& n) {
       if (!r.is_array() || r.size() != 2) r.fail("expected [angle_deg, relative_intensity]");
       rows.push_back({r.at(0).number(0.0, 90.0), r.at(1).number(0.0)});
     }
+  } else if (auto ies = n.find("ies_file")) {
+    rows = read_ies_profile(ies->existing_file());
   } else {
     auto file = n.at("table_file").existing_file();
     CsvNumeric c = read_numeric_csv(file);
