@@ -23,7 +23,8 @@ struct RayCounts {
   void operator+=(const RayCounts& o) { camera += o.camera; extension += o.extension; shadow += o.shadow; }
 };
 
-// Optional log of traced rays, for timing Embree alone on the same rays.
+// Optional log of traced rays, for timing Embree alone on the same rays. Not thread safe:
+// record with one thread (the speed benchmark does).
 struct RayLog {
   struct Ray { float o[3], d[3], tmax; bool shadow; };
   std::vector<Ray> rays;
