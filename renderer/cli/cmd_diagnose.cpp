@@ -28,6 +28,7 @@ void run_diagnose(const DiagnoseJob& job) {
   if (!job.groups.empty()) sel.group_columns = job.groups;
   if (job.z) sel.z = *job.z;
   if (job.max_causes) sel.max_causes = *job.max_causes;
+  if (!job.report_by.empty()) sel.report_by = job.report_by;
 
   std::unique_ptr<DiagnoseProblem> problem;
   ReportContext ctx;
@@ -79,6 +80,7 @@ void register_diagnose_command(CLI::App& app) {
   cmd->add_option("--groups", job->groups, "cross-validation group columns (overrides the model)")->delimiter(',');
   cmd->add_option("--z", job->z, "significance of the held-out gain against the noise floor (default 3)");
   cmd->add_option("--max-causes", job->max_causes, "stop after this many causes");
+  cmd->add_option("--report-by", job->report_by, "break the held-out gains down by this column (overrides the model)");
   cmd->callback([job] { run_diagnose(*job); });
 }
 

@@ -195,6 +195,7 @@ nlohmann::json DiagnoseJob::to_json() const {
   nlohmann::json j = {{"input", input}, {"model", model}, {"outdir", outdir}, {"json", json}, {"where", where}, {"groups", groups}};
   j["z"] = z ? nlohmann::json(*z) : nlohmann::json(nullptr);
   j["max_causes"] = max_causes ? nlohmann::json(*max_causes) : nlohmann::json(nullptr);
+  j["report_by"] = report_by;
   return j;
 }
 

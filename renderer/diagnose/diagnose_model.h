@@ -37,6 +37,7 @@ struct DiagnoseJob {
   std::vector<std::string> groups;         // overrides the model's CV group columns
   std::optional<double> z;                 // overrides the selection's z
   std::optional<int> max_causes;
+  std::string report_by;                   // overrides the model's report_by column
   nlohmann::json to_json() const;
 };
 

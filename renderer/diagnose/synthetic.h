@@ -51,7 +51,7 @@ struct SyntheticCameraOptions {
   double conversion_gain = 0.25; // DN per electron
   double read_noise_dn = 3;
   double n_pixels = 400;         // pixels averaged per patch
-  double capture_jitter = 0.003; // relative illumination change between captures
+  double capture_jitter = 0.003; // relative light change on a patch between captures
   double full_scale = 4095;
 };
 
