@@ -190,13 +190,17 @@ CandidateTrial judge(const DiagnoseProblem& p, int cand, const CvRun& before, Cv
   t.rmse_after = after.rmse();
   bool gain_ok = mean > t.threshold;
   bool folds_ok = t.folds_improved > o.min_fold_fraction * t.folds;
-  t.accepted = gain_ok && folds_ok;
+  double effect = std::sqrt(std::max(0.0, mean - optimism));
+  bool size_ok = effect >= o.min_effect_to_noise * nf.rmse;
+  t.accepted = gain_ok && folds_ok && size_ok;
   if (t.accepted)
     t.verdict = "held-out gain beats the noise";
   else if (!gain_ok)
     t.verdict = "held-out gain " + fmtg(mean) + " below the threshold " + fmtg(t.threshold);
-  else
+  else if (!folds_ok)
     t.verdict = "improves only " + std::to_string(t.folds_improved) + " of " + std::to_string(t.folds) + " held-out groups";
+  else
+    t.verdict = "significant but negligible: effect RMS " + fmtg(effect) + " < " + fmtg(o.min_effect_to_noise) + " x noise floor";
   t.cv = std::move(after);
   return t;
 }
@@ -293,7 +297,6 @@ Diagnosis diagnose(const DiagnoseProblem& p, const SelectionOptions& o) {
   // Parameters and their uncertainty: the full-data fit, with the larger of the group jackknife
   // (spread of the leave-one-group-out fits) and the curvature error inflated for correlated
   // residuals.
-  auto specs = state_param_specs(p, full.state);
   std::vector<double> x = flatten(full.state);
   std::vector<double> jack(x.size(), 0.0);
   if (!dg.causes.empty()) {
@@ -326,7 +329,6 @@ Diagnosis diagnose(const DiagnoseProblem& p, const SelectionOptions& o) {
     cr.derived = p.derived_params(c, fits_all, all);
     cr.words = p.plain_words(c, cr.theta, cr.uncertainty, cr.derived);
   }
-  (void)specs;
 
   dg.rmse_baseline_heldout = dg.baseline_cv.rmse();
   dg.rmse_extended_heldout = dg.final_cv.rmse();

@@ -12,8 +12,10 @@
 // where optimism = dp * s^2 / n_eff is the improvement that dp extra per-item amplitudes give on
 // pure noise of variance s^2 (the noise floor) with n_eff effectively independent samples per
 // item, sd_noise = s^2 sqrt(2 max(dp,1)) / n_eff / sqrt(M) its spread over M held-out items, and
-// se_items the observed standard error of the per-item gains; and when more than
-// `min_fold_fraction` of the folds improve. Otherwise: "no significant effect".
+// se_items the observed standard error of the per-item gains; when more than
+// `min_fold_fraction` of the folds improve; and when the effect it explains is not negligible
+// against the noise (sqrt(gain - optimism) >= min_effect_to_noise * noise floor RMSE).
+// Otherwise: "no significant effect".
 #pragma once
 #include <string>
 #include <vector>
@@ -30,6 +32,10 @@ struct SelectionOptions {
   double z = 3.0;
   int max_causes = 4;
   double min_fold_fraction = 0.5;
+  // Practical significance: the effect the cause explains on held-out data, as an RMS size
+  // sqrt(gain - optimism), must be at least this fraction of the noise floor's RMSE. With many
+  // spectra a 0.04 nm edge shift (grid discretisation) is statistically clear but not worth naming.
+  double min_effect_to_noise = 0.25;
   bool parallel = true;
 };
 

@@ -56,10 +56,11 @@ void parse_selection(const JsonNode& r, DiagnoseModelFile& m) {
   if (auto g = r.find("replicates")) m.selection.replicate_columns = strings(*g);
   m.selection.report_by = r.string_or("report_by", "");
   if (auto s = r.find("selection")) {
-    s->check_keys({"z", "max_causes", "min_fold_fraction"});
+    s->check_keys({"z", "max_causes", "min_fold_fraction", "min_effect_to_noise"});
     m.selection.z = s->number_or("z", m.selection.z, 0.0, 100.0);
     m.selection.max_causes = s->integer_or("max_causes", m.selection.max_causes, 0, 100);
     m.selection.min_fold_fraction = s->number_or("min_fold_fraction", m.selection.min_fold_fraction, 0.0, 0.99);
+    m.selection.min_effect_to_noise = s->number_or("min_effect_to_noise", m.selection.min_effect_to_noise, 0.0, 10.0);
   }
 }
 

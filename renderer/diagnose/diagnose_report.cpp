@@ -95,7 +95,10 @@ nlohmann::json diagnosis_json(const DiagnoseProblem& p, const Diagnosis& d, cons
                       {"replicate_columns", d.options.replicate_columns},
                       {"lag1_autocorrelation", d.floor.lag1},
                       {"independent_fraction", d.floor.n_eff_ratio}};
-  j["selection"] = {{"z", d.options.z}, {"max_causes", d.options.max_causes}, {"min_fold_fraction", d.options.min_fold_fraction}};
+  j["selection"] = {{"z", d.options.z},
+                    {"max_causes", d.options.max_causes},
+                    {"min_fold_fraction", d.options.min_fold_fraction},
+                    {"min_effect_to_noise", d.options.min_effect_to_noise}};
   j["rmse_baseline_heldout"] = d.rmse_baseline_heldout;
   j["rmse_extended_heldout"] = d.rmse_extended_heldout;
   j["variance_explained_baseline_heldout"] = d.ve_baseline_heldout;
@@ -238,12 +241,12 @@ std::vector<std::string> write_diagnosis_files(const DiagnoseProblem& p, const D
   // Held-out gain per report group for the baseline and each model along the selection.
   {
     BarChart b;
-    b.title = "held-out RMSE by " + by + " (each group predicted by a model fitted without it)";
+    b.title = "held-out RMSE by " + by + ", baseline and each accepted cause added in turn";
     b.ylabel = "RMSE (" + std::string(p.kind() == "spectra" ? "fraction of mean radiance" : "DN") + ")";
     std::vector<const CvRun*> runs = {&d.baseline_cv};
     for (auto& c : d.causes) runs.push_back(&c.trial.cv);
     for (size_t m = 0; m < runs.size(); ++m) {
-      b.series_names.push_back(model_name(p, d, m));
+      b.series_names.push_back(m == 0 ? std::string("baseline") : "+ " + p.candidates()[d.causes[m - 1].candidate].id);
       b.colors.push_back(palette(static_cast<int>(m)));
       std::vector<double> v;
       for (auto& [name, items] : groups) v.push_back(group_gain(p, *runs[m], *runs[m], items, name).rmse_before);
@@ -318,6 +321,40 @@ std::vector<std::string> write_diagnosis_files(const DiagnoseProblem& p, const D
         for (double v : s.y) { lo = std::min(lo, v); hi = std::max(hi, v); }
     for (auto& pl : panels) { pl.ymin = lo; pl.ymax = hi; }
     out("heldout_residuals.svg", svg_panels(panels, 1, 900, 380, "held-out residuals (each spectrum predicted by a model fitted without its group)"));
+
+    // Each accepted cause's signature: mean held-out residual per report group just before and
+    // just after the cause was added.
+    if (!d.causes.empty()) {
+      std::vector<Plot> sig;
+      const CvRun* before = &d.baseline_cv;
+      for (size_t k = 0; k < d.causes.size(); ++k) {
+        const CvRun* after = &d.causes[k].trial.cv;
+        Plot pl;
+        pl.title = std::to_string(k + 1) + ". + " + p.candidates()[d.causes[k].candidate].id;
+        pl.xlabel = "wavelength (nm)";
+        pl.ylabel = "mean held-out residual";
+        pl.zero_line = true;
+        for (size_t g = 0; g < groups.size(); ++g)
+          for (int m = 0; m < 2; ++m) {
+            const CvRun* cv = m == 0 ? before : after;
+            std::map<double, std::pair<double, int>> mean;
+            for (int i : groups[g].second) {
+              auto x = p.abscissa(i);
+              for (size_t q = 0; q < x.size(); ++q) { mean[x[q]].first += cv->heldout[i].residual[q]; mean[x[q]].second++; }
+            }
+            PlotSeries s;
+            for (auto& [x, v] : mean) { s.x.push_back(x); s.y.push_back(v.first / v.second); }
+            s.color = palette(static_cast<int>(g));
+            s.width = m == 0 ? 1.4 : 2.2;
+            s.dashed = m == 0;
+            s.label = (m == 0 ? "before, " : "after, ") + by + " " + groups[g].first;
+            pl.series.push_back(s);
+          }
+        sig.push_back(pl);
+        before = after;
+      }
+      out("cause_signatures.svg", svg_panels(sig, 2, 560, 330, "what each accepted cause explains (held-out residual before -> after)"));
+    }
 
     // A few spectra: measured, baseline and extended held-out predictions.
     std::vector<Plot> ex;

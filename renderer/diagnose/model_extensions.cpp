@@ -1,5 +1,6 @@
 #include "renderer/diagnose/model_extensions.h"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -130,16 +131,19 @@ void gaussian_blur(std::vector<double>& v, double step, double fwhm) {
 
 void shift_samples(std::vector<double>& v, double step, double delta) {
   if (delta == 0 || v.empty()) return;
-  int n = static_cast<int>(v.size());
+  // Cubic (Catmull-Rom) interpolation: a linear one would also blur sharp features such as the
+  // long-pass edge by up to half a grid step, which the fit then "explains" with other causes.
+  const int n = static_cast<int>(v.size());
+  auto at = [&](int i) { return v[std::clamp(i, 0, n - 1)]; };
   std::vector<double> out(n);
-  double d = delta / step;
+  const double d = delta / step;
   for (int i = 0; i < n; ++i) {
     double x = i - d;
     if (x <= 0) { out[i] = v[0]; continue; }
     if (x >= n - 1) { out[i] = v[n - 1]; continue; }
     int a = static_cast<int>(x);
-    double t = x - a;
-    out[i] = v[a] * (1 - t) + v[a + 1] * t;
+    double t = x - a, p0 = at(a - 1), p1 = at(a), p2 = at(a + 1), p3 = at(a + 2);
+    out[i] = p1 + 0.5 * t * (p2 - p0 + t * (2 * p0 - 5 * p1 + 4 * p2 - p3 + t * (3 * (p1 - p2) + p3 - p0)));
   }
   v.swap(out);
 }

@@ -79,14 +79,18 @@ void draw_plot(std::ostringstream& o, const Plot& p, double ox, double oy, doubl
     take(b.x, b.hi);
   }
   if (p.zero_line) { ymin = std::min(ymin, 0.0); ymax = std::max(ymax, 0.0); }
-  if (p.diagonal) { double lo = std::min(xmin, ymin), hi = std::max(xmax, ymax); xmin = ymin = lo; xmax = ymax = hi; }
+  if (p.diagonal) {
+    double lo = std::min(xmin, ymin), hi = std::max(xmax, ymax), pad = 0.03 * (hi - lo);
+    xmin = ymin = lo - pad;
+    xmax = ymax = hi + pad;
+  }
   if (p.xmin) xmin = *p.xmin;
   if (p.xmax) xmax = *p.xmax;
   if (p.ymin) ymin = *p.ymin;
   if (p.ymax) ymax = *p.ymax;
   expand(xmin, xmax);
   expand(ymin, ymax);
-  if (!p.ymin && !p.ymax) { double pad = 0.04 * (ymax - ymin); ymin -= pad; ymax += pad; }
+  if (!p.ymin && !p.ymax && !p.diagonal) { double pad = 0.04 * (ymax - ymin); ymin -= pad; ymax += pad; }
   Frame f{ox + 70, oy + 34, W - 90, H - 84, xmin, xmax, ymin, ymax};
   o << "<g font-family=\"sans-serif\" font-size=\"12\">\n";
   o << "<text x=\"" << num(ox + W / 2) << "\" y=\"" << num(oy + 20) << "\" text-anchor=\"middle\" font-size=\"14\">" << esc(p.title) << "</text>\n";
@@ -204,7 +208,11 @@ std::string svg_bars(const BarChart& b, double W, double H) {
     if (std::isfinite(v)) { ymax = std::max(ymax, v); ymin = std::min(ymin, v); }
   if (!(ymax > ymin)) ymax = ymin + 1;
   ymax += 0.08 * (ymax - ymin);
-  Frame f{70, 34, W - 90, H - 120, 0, 1, ymin, ymax};
+  // Room below the axis for category labels written at -35 degrees (about 6.5 px per character).
+  size_t longest = 0;
+  for (auto& c : b.categories) longest = std::max(longest, c.size());
+  double below = 24 + 0.57 * 6.5 * static_cast<double>(longest);
+  Frame f{70, 34, W - 90, std::max(80.0, H - 34 - below), 0, 1, ymin, ymax};
   o << "<text x=\"" << num(W / 2) << "\" y=\"20\" text-anchor=\"middle\" font-size=\"14\">" << esc(b.title) << "</text>\n";
   o << "<rect x=\"" << num(f.x0) << "\" y=\"" << num(f.y0) << "\" width=\"" << num(f.w) << "\" height=\"" << num(f.h)
     << "\" fill=\"white\" stroke=\"#444\"/>\n";
@@ -230,19 +238,22 @@ std::string svg_bars(const BarChart& b, double W, double H) {
     if (c < b.markers.size() && std::isfinite(b.markers[c]))
       o << "<line x1=\"" << num(cx - 2) << "\" y1=\"" << num(f.Y(b.markers[c])) << "\" x2=\"" << num(cx + cw * 0.8 + 2) << "\" y2=\""
         << num(f.Y(b.markers[c])) << "\" stroke=\"black\" stroke-width=\"2\" stroke-dasharray=\"4 2\"/>\n";
-    double tx = f.x0 + c * cw + cw / 2, ty = f.y0 + f.h + 12;
-    o << "<text transform=\"translate(" << num(tx) << "," << num(ty) << ") rotate(30)\" text-anchor=\"start\">" << esc(b.categories[c]) << "</text>\n";
+    double tx = f.x0 + c * cw + cw / 2, ty = f.y0 + f.h + 14;
+    o << "<text transform=\"translate(" << num(tx) << "," << num(ty) << ") rotate(-35)\" text-anchor=\"end\">" << esc(b.categories[c]) << "</text>\n";
   }
   if (ymin < 0)
     o << "<line x1=\"" << num(f.x0) << "\" y1=\"" << num(f.Y(0)) << "\" x2=\"" << num(f.x0 + f.w) << "\" y2=\"" << num(f.Y(0)) << "\" stroke=\"#555\"/>\n";
+  size_t lname = b.marker_label.size();
+  for (auto& n : b.series_names) lname = std::max(lname, n.size());
+  const double lw = 30 + 6.5 * static_cast<double>(lname);
   for (size_t s = 0; s < ns; ++s) {
-    double lx = f.x0 + f.w - 200, ly = f.y0 + 16 + 16 * s;
+    double lx = f.x0 + f.w - lw, ly = f.y0 + 16 + 16 * s;
     std::string col = s < b.colors.size() ? b.colors[s] : palette(static_cast<int>(s));
     o << "<rect x=\"" << num(lx) << "\" y=\"" << num(ly - 9) << "\" width=\"12\" height=\"10\" fill=\"" << col << "\"/>\n";
     o << "<text x=\"" << num(lx + 18) << "\" y=\"" << num(ly) << "\">" << esc(s < b.series_names.size() ? b.series_names[s] : "") << "</text>\n";
   }
   if (!b.marker_label.empty()) {
-    double lx = f.x0 + f.w - 200, ly = f.y0 + 16 + 16 * ns;
+    double lx = f.x0 + f.w - lw, ly = f.y0 + 16 + 16 * ns;
     o << "<line x1=\"" << num(lx) << "\" y1=\"" << num(ly - 4) << "\" x2=\"" << num(lx + 12) << "\" y2=\"" << num(ly - 4)
       << "\" stroke=\"black\" stroke-width=\"2\" stroke-dasharray=\"4 2\"/>\n";
     o << "<text x=\"" << num(lx + 18) << "\" y=\"" << num(ly) << "\">" << esc(b.marker_label) << "</text>\n";

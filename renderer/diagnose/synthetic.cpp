@@ -59,7 +59,7 @@ SpectraModel synthetic_spectra_model(const SyntheticSpectraOptions& o) {
   m.leak = LeakSource::kMeasured;
   m.fit_min_nm = o.fit_min_nm;
   m.fit_max_nm = o.fit_max_nm;
-  m.grid_step_nm = o.step_nm;
+  m.grid_step_nm = o.model_step_nm > 0 ? o.model_step_nm : o.step_nm;
   m.candidates.extra_from = {"chlorophyll_a", "elastin", "teeth"};
   return m;
 }
@@ -90,7 +90,9 @@ SyntheticSpectra make_synthetic_spectra(const SyntheticSpectraOptions& o) {
           m.value.assign(nm.size(), 1.0);
           tmpl.spectra.push_back(m);
         }
-  SpectraProblem p0(tmpl, out.model);
+  SpectraModel gen_model = out.model;
+  gen_model.grid_step_nm = o.generation_step_nm > 0 ? o.generation_step_nm : o.step_nm;
+  SpectraProblem p0(tmpl, gen_model);
 
   // The hidden effect and its parameters.
   ModelState truth;
@@ -111,31 +113,37 @@ SyntheticSpectra make_synthetic_spectra(const SyntheticSpectraOptions& o) {
       out.truth = {{"oxy_uM_cm", th[0]}, {"deoxy_uM_cm", th[1]}};
     } else if (n == "wavelength_shift") {
       th = {rng.sign() * rng.uniform(0.5, 2.5)};
+      if (o.magnitude >= 0) th[0] = o.magnitude;
       out.truth = {{"delta_nm", th[0]}};
     } else if (n == "bandwidth") {
       th = {rng.uniform(6, 14)};
+      if (o.magnitude >= 0) th[0] = o.magnitude;
       out.truth = {{"fwhm_nm", th[0]}};
     } else if (n == "emission_broadening") {
       th = {rng.uniform(8, 20)};
+      if (o.magnitude >= 0) th[0] = o.magnitude;
       out.truth = {{"fwhm_nm", th[0]}};
     } else if (n == "stray_light") {
       th = {rng.uniform(0.02, 0.06)};
+      if (o.magnitude >= 0) th[0] = o.magnitude;
       out.truth = {{"fraction", th[0]}};
     } else if (n == "longpass_edge") {
       th = {rng.sign() * rng.uniform(3, 8)};
+      if (o.magnitude >= 0) th[0] = o.magnitude;
       out.truth = {{"shift_nm", th[0]}};
     }
     out.effect_id = id;
   }
-  const double leak_od = rng.uniform(4.5, 5.5);
-  const double extra_share = rng.uniform(0.08, 0.25);
+  double leak_od = rng.uniform(4.5, 5.5);
+  double extra_share = rng.uniform(0.08, 0.25);
+  if (o.magnitude >= 0 && o.effect == "longpass_leak") leak_od = o.magnitude;
+  if (o.magnitude >= 0 && o.effect == "extra_fluorophore") extra_share = o.magnitude;
 
   // Compositions: shares of the predicted signal per subject and site, jittered per location.
   std::map<std::string, std::vector<double>> base_share;
   SpectraSet data = tmpl;
   double extra_frac_sum = 0;
   int extra_frac_n = 0;
-  double leak_sum = 0;
   for (int i = 0; i < p0.num_items(); ++i) {
     auto& cond = tmpl.spectra[i].conditions;
     std::string key = cond.at("subject") + "|" + cond.at("site");
@@ -170,8 +178,6 @@ SyntheticSpectra make_synthetic_spectra(const SyntheticSpectraOptions& o) {
     if (!extra.empty())
       for (Eigen::Index j = 0; j < A.cols(); ++j)
         if (D.names[j] == extra) { extra_frac_sum += (A.col(j) * c[j]).mean() / ybar; ++extra_frac_n; }
-    for (Eigen::Index j = 0; j < A.cols(); ++j)
-      if (D.names[j] == "longpass_leak") leak_sum += std::log10(c[j]);
     // The template's fit range defines the design rows; the file keeps the full range with the
     // model evaluated everywhere (outside the fit range it is never looked at).
     auto& m = data.spectra[i];
@@ -189,7 +195,6 @@ SyntheticSpectra make_synthetic_spectra(const SyntheticSpectraOptions& o) {
   }
   if (!extra.empty()) out.truth = {{"mean_fraction", extra_frac_sum / std::max(1, extra_frac_n)}};
   if (o.effect == "longpass_leak") out.truth = {{"effective_od", leak_od}};
-  (void)leak_sum;
   out.data = std::move(data);
   return out;
 }

@@ -17,11 +17,17 @@ struct SyntheticSpectraOptions {
   uint64_t seed = 1;
   std::string effect;            // "" (none) or a spectra candidate name (model_extensions.h)
   std::string extra_fluorophore; // for effect "extra_fluorophore" ("" = random from the candidates)
+  double magnitude = -1;         // >= 0: this value instead of a random one for one-parameter
+                                 // effects (shift: +value; leak: the OD; extra: its share)
   int subjects = 4;
   std::vector<std::string> sites = {"lip", "tongue"};
   int locations = 2;             // replicates: same condition, another spot (composition jitter)
   double step_nm = 4, min_nm = 380, max_nm = 780;
   double fit_min_nm = 400, fit_max_nm = 740;
+  // The data are made on a 1 nm grid and sampled every step_nm; the diagnosis models on a 2 nm
+  // grid: a small discretisation mismatch, as real data always have some.
+  double generation_step_nm = 1;
+  double model_step_nm = 2;
   double noise_relative = 0.01;  // shot-like: sigma = r sqrt(y * mean) + f * mean
   double noise_floor = 0.002;
   double location_jitter = 0.05; // lognormal sigma of each fluorophore share between locations
