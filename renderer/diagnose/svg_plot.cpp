@@ -147,7 +147,8 @@ void draw_plot(std::ostringstream& o, const Plot& p, double ox, double oy, doubl
   // Legend: labelled series and bands, top-right inside the frame.
   int row = 0;
   auto entry = [&](const std::string& label, const std::string& color, bool band, bool dashed) {
-    double lx = f.x0 + f.w - 190, ly = f.y0 + 14 + 16 * row++;
+    // Top right, except on predicted-vs-measured plots whose points fill that corner.
+    double lx = p.diagonal ? f.x0 + 10 : f.x0 + f.w - 190, ly = f.y0 + 14 + 16 * row++;
     o << "<rect x=\"" << num(lx - 4) << "\" y=\"" << num(ly - 11) << "\" width=\"190\" height=\"16\" fill=\"white\" fill-opacity=\"0.8\"/>\n";
     if (band)
       o << "<rect x=\"" << num(lx) << "\" y=\"" << num(ly - 8) << "\" width=\"22\" height=\"10\" fill=\"" << color << "\" fill-opacity=\"0.35\"/>\n";
