@@ -65,7 +65,9 @@ TEST(DiagnoseHiddenSpectraNull, NoCauseClaimedWithoutAHiddenEffect) {
       ++claims;
       what += " seed " + std::to_string(seed) + ": " + d.verdict;
     }
-    if (d.causes.empty()) EXPECT_EQ(d.verdict.rfind("no significant effect", 0), 0u) << d.verdict;
+    if (d.causes.empty()) {
+      EXPECT_EQ(d.verdict.rfind("no significant effect", 0), 0u) << d.verdict;
+    }
   }
   std::printf("[ null spectra ] claims in %d of 12 data sets\n", claims);
   EXPECT_LE(claims, 1) << what;
