@@ -1,0 +1,123 @@
+// Honest selection of causes: leave-one-group-out cross-validation (groups = distinct values of
+// condition columns such as subject and session) judged against a noise floor measured from
+// replicates (items equal in every replicate column, e.g. two locations of the same condition).
+// The floor is the "pure error" of the baseline fit: the scatter of the residuals within each
+// replicate set. What replicates share is lack of fit (something a cause may explain); what
+// differs between them (noise, location-to-location differences the per-item amplitudes cannot
+// absorb) is what no global model can predict.
+//
+// A candidate cause is added to the model (forward selection, best first) only when, on the
+// held-out groups,
+//   mean_i (MSE_before_i - MSE_after_i) > optimism + z * max(sd_noise, se_items)
+// where optimism = dp * s^2 / n_eff is the improvement that dp extra per-item amplitudes give on
+// pure noise of variance s^2 (the noise floor) with n_eff effectively independent samples per
+// item, sd_noise = s^2 sqrt(2 max(dp,1)) / n_eff / sqrt(M) its spread over M held-out items, and
+// se_items the observed standard error of the per-item gains; when more than
+// `min_fold_fraction` of the folds improve; and when the effect it explains is not negligible
+// against the noise (sqrt(gain - optimism) >= min_effect_to_noise * noise floor RMSE).
+// Otherwise: "no significant effect".
+#pragma once
+#include <string>
+#include <vector>
+
+#include "renderer/diagnose/diagnose_problem.h"
+#include "renderer/diagnose/global_fit.h"
+
+namespace ofl {
+
+struct SelectionOptions {
+  std::vector<std::string> group_columns = {"subject"};  // one fold per distinct combination
+  std::vector<std::string> replicate_columns;             // equal in all of these = replicates
+  std::string report_by;                                  // per-value breakdown in the report
+  double z = 3.0;
+  int max_causes = 4;
+  double min_fold_fraction = 0.5;
+  // Practical significance: the effect the cause explains on held-out data, as an RMS size
+  // sqrt(gain - optimism), must be at least this fraction of the noise floor's RMSE. With many
+  // spectra a 0.04 nm edge shift (grid discretisation) is statistically clear but not worth naming.
+  double min_effect_to_noise = 0.25;
+  bool parallel = true;
+};
+
+struct NoiseFloor {
+  double variance = 0;     // per residual element (problem units squared)
+  double rmse = 0;
+  double n_eff_ratio = 1;  // independent samples per residual element (lag-1 autocorrelation)
+  double lag1 = 0;
+  int sets = 0, items = 0;
+  std::string source;      // how it was measured, in words
+};
+// Pure error of `fits` (one per item, e.g. the baseline fitted to all items) within replicate sets.
+NoiseFloor estimate_noise_floor(const DiagnoseProblem& p, const std::vector<std::string>& replicate_columns,
+                                const std::vector<ItemFit>& fits);
+
+struct Folds {
+  std::vector<std::string> names;
+  std::vector<int> of_item;
+  int count() const { return static_cast<int>(names.size()); }
+};
+Folds make_folds(const DiagnoseProblem& p, const std::vector<std::string>& columns);
+
+struct CvRun {
+  std::vector<ItemFit> heldout;          // per item
+  std::vector<double> item_mse;          // per item
+  std::vector<ModelState> fold_states;   // global parameters fitted without that fold
+  double rss = 0;
+  long n = 0;
+  double rmse() const { return n ? std::sqrt(rss / n) : 0; }
+};
+// Fits `fold_starts[f]` on all folds but f and predicts fold f; `grid_cause` as in fit_global.
+CvRun cross_validate(const DiagnoseProblem& p, const std::vector<ModelState>& fold_starts, int grid_cause,
+                     const Folds& folds, bool parallel);
+
+struct GroupGain {
+  std::string value;
+  int items = 0;
+  double rmse_before = 0, rmse_after = 0;
+  double ve_before = 0, ve_after = 0;  // variance explained
+};
+
+struct CandidateTrial {
+  int candidate = -1;
+  double rmse_before = 0, rmse_after = 0;  // pooled over held-out items
+  double mean_gain = 0;                    // mean over items of MSE_before - MSE_after
+  double optimism = 0, sd_noise = 0, se_items = 0, threshold = 0;
+  int folds_improved = 0, folds = 0;
+  bool accepted = false;
+  std::string verdict;
+  CvRun cv;
+};
+
+struct CauseResult {
+  int candidate = -1;
+  int step = 0;
+  std::vector<double> theta, uncertainty, se_curvature, se_jackknife;
+  std::vector<DerivedParam> derived;
+  CandidateTrial trial;                 // the step at which it was accepted
+  CandidateTrial solo;                  // on top of the baseline alone (step 1)
+  std::vector<GroupGain> by_report;     // incremental held-out gain per report_by value
+  std::vector<GroupGain> solo_by_report;
+  std::string words;
+};
+
+struct Diagnosis {
+  SelectionOptions options;
+  NoiseFloor floor;
+  Folds folds;
+  CvRun baseline_cv, final_cv;
+  GlobalFit baseline_fit, final_fit;
+  std::vector<CauseResult> causes;
+  std::vector<std::vector<CandidateTrial>> steps;  // every candidate tried at every step
+  double rmse_baseline_heldout = 0, rmse_extended_heldout = 0;
+  double ve_baseline_heldout = 0, ve_extended_heldout = 0;
+  std::vector<GroupGain> by_report, by_fold;
+  std::string verdict;
+};
+
+Diagnosis diagnose(const DiagnoseProblem& p, const SelectionOptions& o);
+
+// Held-out RMSE and variance explained of a CV run, before/after, over `items`.
+GroupGain group_gain(const DiagnoseProblem& p, const CvRun& before, const CvRun& after, const std::vector<int>& items,
+                     const std::string& name);
+
+}  // namespace ofl

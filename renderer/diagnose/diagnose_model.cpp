@@ -1,0 +1,203 @@
+#include "renderer/diagnose/diagnose_model.h"
+
+#include "renderer/core/error.h"
+#include "renderer/core/json_node.h"
+#include "renderer/spectral/spectrum_json.h"
+
+namespace ofl {
+
+namespace {
+
+std::string cell_text(const JsonNode& n) {
+  if (n.is_string()) return n.string();
+  if (n.is_number()) {
+    double v = n.number();
+    char b[64];
+    std::snprintf(b, sizeof b, "%.15g", v);
+    return b;
+  }
+  n.fail("expected a string or a number");
+}
+
+std::vector<std::string> strings(const JsonNode& n) {
+  std::vector<std::string> v;
+  if (n.is_string()) return {n.string()};
+  for (size_t i = 0; i < n.size(); ++i) v.push_back(n.at(i).string());
+  return v;
+}
+
+std::vector<RowFilter> parse_select(const JsonNode& n) {
+  std::vector<RowFilter> out;
+  for (auto& k : n.keys()) {
+    JsonNode v = n.at(k);
+    RowFilter f;
+    f.column = k;
+    if (v.is_array())
+      for (size_t i = 0; i < v.size(); ++i) f.values.push_back(cell_text(v.at(i)));
+    else
+      f.values.push_back(cell_text(v));
+    out.push_back(f);
+  }
+  return out;
+}
+
+// true/false, or an object of options for the candidate.
+bool candidate_on(const JsonNode& c, const char* key, std::optional<JsonNode>* options = nullptr) {
+  auto n = c.find(key);
+  if (!n) return true;
+  if (n->raw().is_boolean()) return n->boolean();
+  if (!n->is_object()) n->fail("expected true, false or an object of options");
+  if (options) *options = *n;
+  return n->boolean_or("enabled", true);
+}
+
+void parse_selection(const JsonNode& r, DiagnoseModelFile& m) {
+  if (auto g = r.find("groups")) m.selection.group_columns = strings(*g);
+  if (auto g = r.find("replicates")) m.selection.replicate_columns = strings(*g);
+  m.selection.report_by = r.string_or("report_by", "");
+  if (auto s = r.find("selection")) {
+    s->check_keys({"z", "max_causes", "min_fold_fraction", "min_effect_to_noise"});
+    m.selection.z = s->number_or("z", m.selection.z, 0.0, 100.0);
+    m.selection.max_causes = s->integer_or("max_causes", m.selection.max_causes, 0, 100);
+    m.selection.min_fold_fraction = s->number_or("min_fold_fraction", m.selection.min_fold_fraction, 0.0, 0.99);
+    m.selection.min_effect_to_noise = s->number_or("min_effect_to_noise", m.selection.min_effect_to_noise, 0.0, 10.0);
+  }
+}
+
+void parse_spectra(const JsonNode& r, DiagnoseModelFile& m) {
+  r.check_keys({"format", "kind", "description", "select", "file_column", "groups", "replicates", "report_by", "selection",
+                "fit_range_nm", "grid_step_nm", "instrument_fwhm_nm", "fluorophores", "lights", "excitation_filter",
+                "emission_filter", "leak", "candidates"});
+  SpectraModel& s = m.spectra;
+  s.base_dir = std::filesystem::path(m.file).parent_path();
+  m.file_column = r.string_or("file_column", "csv");
+  if (auto f = r.find("fit_range_nm")) {
+    auto v = f->numbers();
+    if (v.size() != 2 || !(v[1] > v[0])) f->fail("expected [min_nm, max_nm] with min < max");
+    s.fit_min_nm = v[0];
+    s.fit_max_nm = v[1];
+  }
+  s.grid_step_nm = r.number_or("grid_step_nm", 2.0, 0.1, 50.0);
+  s.instrument_fwhm_nm = r.number_or("instrument_fwhm_nm", 0.0, 0.0, 100.0);
+  if (auto f = r.find("fluorophores")) s.fluorophores = strings(*f);
+  JsonNode L = r.at("lights");
+  L.check_keys({"nearest", "floor_fraction", "entries"});
+  s.nearest_column = L.string_or("nearest", "");
+  s.light_floor_fraction = L.number_or("floor_fraction", 1e-3, 0.0, 0.5);
+  JsonNode E = L.at("entries");
+  if (E.size() == 0) E.fail("no light entries");
+  for (size_t i = 0; i < E.size(); ++i) {
+    JsonNode e = E.at(i);
+    e.check_keys({"name", "when", "spectrum", "leak"});
+    LightEntry le;
+    le.name = e.string_or("name", "light " + std::to_string(i));
+    JsonNode w = e.at("when");
+    for (auto& k : w.keys()) le.when[k] = cell_text(w.at(k));
+    le.spectrum = parse_spectrum(e.at("spectrum"), SpectrumKind::kEmission);
+    if (auto lk = e.find("leak")) le.leak = parse_spectrum(*lk, SpectrumKind::kEmission);
+    s.lights.push_back(std::move(le));
+  }
+  if (auto f = r.find("excitation_filter")) s.excitation_filter = parse_filter(*f);
+  if (auto f = r.find("emission_filter")) s.emission_filter = parse_filter(*f);
+  std::string leak = r.choice_or("leak", "computed", {"measured", "computed", "none"});
+  s.leak = leak == "measured" ? LeakSource::kMeasured : leak == "none" ? LeakSource::kNone : LeakSource::kComputed;
+  if (s.leak == LeakSource::kMeasured)
+    for (size_t i = 0; i < s.lights.size(); ++i)
+      if (!s.lights[i].leak) E.at(i).fail("\"leak\": \"measured\" needs a \"leak\" spectrum for every light");
+  if (auto c = r.find("candidates")) {
+    c->check_keys({"blood_absorption", "extra_fluorophore", "wavelength_shift", "bandwidth", "emission_broadening", "stray_light",
+                   "longpass_leak", "longpass_edge"});
+    auto& o = s.candidates;
+    std::optional<JsonNode> bo, eo;
+    o.blood = candidate_on(*c, "blood_absorption", &bo);
+    if (bo) {
+      bo->check_keys({"enabled", "excitation_path_factor"});
+      o.blood_excitation_path_factor = bo->number_or("excitation_path_factor", 0.0, 0.0, 10.0);
+    }
+    o.extra_fluorophore = candidate_on(*c, "extra_fluorophore", &eo);
+    if (eo) {
+      eo->check_keys({"enabled", "from"});
+      if (auto f = eo->find("from")) o.extra_from = strings(*f);
+    }
+    o.shift = candidate_on(*c, "wavelength_shift");
+    o.bandwidth = candidate_on(*c, "bandwidth");
+    o.broadening = candidate_on(*c, "emission_broadening");
+    o.stray = candidate_on(*c, "stray_light");
+    o.leak = candidate_on(*c, "longpass_leak");
+    o.edge = candidate_on(*c, "longpass_edge");
+  }
+}
+
+void parse_camera(const JsonNode& r, DiagnoseModelFile& m) {
+  r.check_keys({"format", "kind", "description", "select", "groups", "replicates", "report_by", "selection", "sensor",
+                "grid_step_nm", "nir_cut_nm", "candidates"});
+  CameraModel& c = m.camera;
+  c.grid_step_nm = r.number_or("grid_step_nm", 4.0, 0.1, 50.0);
+  c.nir_cut_nm = r.number_or("nir_cut_nm", 0.0, 0.0, 5000.0);
+  JsonNode s = r.at("sensor");
+  s.check_keys({"qe", "filters", "black_level"});
+  JsonNode q = s.at("qe");
+  q.check_keys({"r", "g", "b"});
+  c.qe[0] = parse_spectrum(q.at("r"), SpectrumKind::kTransmittance);
+  c.qe[1] = parse_spectrum(q.at("g"), SpectrumKind::kTransmittance);
+  c.qe[2] = parse_spectrum(q.at("b"), SpectrumKind::kTransmittance);
+  if (auto f = s.find("filters"))
+    for (size_t i = 0; i < f->size(); ++i) c.filters.push_back(parse_spectrum(f->at(i), SpectrumKind::kTransmittance));
+  c.black_level = s.number_or("black_level", 0.0);
+  if (auto cc = r.find("candidates")) {
+    cc->check_keys({"channel_gain", "crosstalk", "offset", "nonlinearity", "qe_shift", "nir_leak"});
+    auto& o = c.candidates;
+    o.gain = candidate_on(*cc, "channel_gain");
+    o.crosstalk = candidate_on(*cc, "crosstalk");
+    o.offset = candidate_on(*cc, "offset");
+    o.nonlinearity = candidate_on(*cc, "nonlinearity");
+    o.qe_shift = candidate_on(*cc, "qe_shift");
+    o.nir_leak = candidate_on(*cc, "nir_leak");
+  }
+}
+
+}  // namespace
+
+DiagnoseModelFile load_diagnose_model(const std::filesystem::path& file) {
+  JsonFile f = JsonFile::load(file);
+  JsonNode r = f.root();
+  if (!r.is_object()) r.fail("a diagnose model must be a JSON object");
+  DiagnoseModelFile m;
+  m.file = file.string();
+  std::string kind = r.at("kind").string();
+  if (kind != "spectra" && kind != "camera") r.at("kind").fail("must be \"spectra\" or \"camera\"");
+  m.kind = kind == "camera" ? InputKind::kCamera : InputKind::kSpectra;
+  if (auto s = r.find("select")) m.select = parse_select(*s);
+  parse_selection(r, m);
+  if (m.kind == InputKind::kSpectra)
+    parse_spectra(r, m);
+  else
+    parse_camera(r, m);
+  return m;
+}
+
+RowFilter parse_where(const std::string& s) {
+  auto eq = s.find('=');
+  if (eq == std::string::npos || eq == 0) throw InputError("command line", "--where", "expected column=value, got \"" + s + "\"");
+  RowFilter f;
+  f.column = s.substr(0, eq);
+  std::string rest = s.substr(eq + 1);
+  size_t a = 0;
+  for (;;) {
+    size_t b = rest.find('|', a);
+    f.values.push_back(rest.substr(a, b == std::string::npos ? std::string::npos : b - a));
+    if (b == std::string::npos) break;
+    a = b + 1;
+  }
+  return f;
+}
+
+nlohmann::json DiagnoseJob::to_json() const {
+  nlohmann::json j = {{"input", input}, {"model", model}, {"outdir", outdir}, {"json", json}, {"where", where}, {"groups", groups}};
+  j["z"] = z ? nlohmann::json(*z) : nlohmann::json(nullptr);
+  j["max_causes"] = max_causes ? nlohmann::json(*max_causes) : nlohmann::json(nullptr);
+  j["report_by"] = report_by;
+  return j;
+}
+
+}  // namespace ofl

@@ -1,0 +1,47 @@
+// The model description of `oralfluor diagnose` (model.json) and the job's parameters.
+// See docs/diagnose.md for the file format; every error names the file and JSON path.
+#pragma once
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "renderer/diagnose/camera_model.h"
+#include "renderer/diagnose/cross_validation.h"
+#include "renderer/diagnose/forward_model.h"
+#include "renderer/diagnose/measurement_set.h"
+
+namespace ofl {
+
+struct DiagnoseModelFile {
+  std::string file;
+  InputKind kind = InputKind::kSpectra;
+  std::vector<RowFilter> select;    // rows of the index / patch table to use
+  std::string file_column = "csv";  // spectra: index column naming each spectrum's file
+  SelectionOptions selection;
+  SpectraModel spectra;
+  CameraModel camera;
+};
+
+DiagnoseModelFile load_diagnose_model(const std::filesystem::path& file);
+
+// Everything one `oralfluor diagnose` run is asked to do (serialised into the JSON report).
+struct DiagnoseJob {
+  std::string input;                       // folder or CSV
+  std::string model;                       // model.json
+  std::string outdir;                      // plots, residual tables, report.json ("" = none)
+  bool json = false;                       // print the JSON report on stdout
+  std::vector<std::string> where;          // extra row filters "column=value"
+  std::vector<std::string> groups;         // overrides the model's CV group columns
+  std::optional<double> z;                 // overrides the selection's z
+  std::optional<int> max_causes;
+  std::string report_by;                   // overrides the model's report_by column
+  nlohmann::json to_json() const;
+};
+
+// "column=value" (several values: "column=a|b") -> RowFilter; InputError on a malformed string.
+RowFilter parse_where(const std::string& s);
+
+}  // namespace ofl

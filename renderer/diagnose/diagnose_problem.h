@@ -1,0 +1,105 @@
+// The common shape of a diagnosis problem, so that fitting, cross-validation and cause selection
+// are written once for spectroradiometer spectra and for camera RGB patches.
+//
+// A problem has items (one measured spectrum, or one camera patch), each with a residual vector
+// (measured - predicted, in the problem's RMSE units) under a model state. A model state is the
+// baseline plus any number of active causes; each cause is a candidate extension with global
+// parameters (shared by all items: a wavelength shift, a blood layer, a crosstalk matrix) and
+// possibly local ones (per-item amplitudes, e.g. an extra fluorophore's concentration), which the
+// problem fits itself inside `evaluate` (non-negative least squares). Global parameters are what
+// cross-validation carries from training groups to held-out groups.
+#pragma once
+#include <limits>
+#include <map>
+#include <string>
+#include <vector>
+
+#include <Eigen/Dense>
+
+namespace ofl {
+
+struct ParamSpec {
+  std::string name;         // JSON key, e.g. "delta_nm"
+  std::string unit;         // e.g. "nm"
+  double init = 0;
+  double lo = -std::numeric_limits<double>::infinity();
+  double hi = std::numeric_limits<double>::infinity();
+  double fd_step = 1e-3;    // finite-difference step for the Jacobian
+  std::vector<double> starts;  // values tried before local refinement (empty: init only)
+};
+
+struct CandidateSpec {
+  std::string id;           // unique: "blood_absorption", "extra_fluorophore:chlorophyll_a"
+  std::string name;         // the cause's name in reports: "blood_absorption", "extra_fluorophore"
+  std::string title;        // a few words: "blood absorption (oxy/deoxy hemoglobin)"
+  std::vector<ParamSpec> params;  // global parameters
+  int local_dofs = 0;       // amplitudes it adds to every item's local fit
+};
+
+struct ActiveCause {
+  int candidate = -1;
+  std::vector<double> theta;
+};
+
+struct ModelState {
+  std::vector<double> base_theta;  // global parameters of the baseline (camera: exposure gain)
+  std::vector<ActiveCause> causes;
+  bool has(int candidate) const {
+    for (auto& c : causes)
+      if (c.candidate == candidate) return true;
+    return false;
+  }
+};
+
+// One item evaluated under a model state.
+struct ItemFit {
+  Eigen::VectorXd residual;    // measured - predicted (problem units)
+  Eigen::VectorXd measured;    // in the same units
+  Eigen::VectorXd predicted;
+  int local_dofs = 0;          // local amplitudes actually used (positive NNLS coefficients)
+  // Named per-item quantities the problem derives for reporting, e.g. "fraction:FAD" (share of the
+  // predicted signal) or "leak_od".
+  std::map<std::string, double> locals;
+};
+
+// A reported quantity of a cause that is derived from the local fits rather than being a global
+// parameter (e.g. the mean share of an extra fluorophore).
+struct DerivedParam {
+  std::string name, unit;
+  double value = 0, uncertainty = 0;
+};
+
+class DiagnoseProblem {
+ public:
+  virtual ~DiagnoseProblem() = default;
+  virtual std::string kind() const = 0;            // "spectra" or "camera"
+  virtual std::string rmse_units() const = 0;      // what one unit of residual is
+  virtual int num_items() const = 0;
+  virtual std::string item_label(int i) const = 0;
+  // The item's value in a condition column ("subject", "date", ...); "" when absent.
+  virtual std::string condition(int i, const std::string& column) const = 0;
+  // Abscissa of the residual vector (wavelengths in nm, or 0,1,2 for R,G,B).
+  virtual std::vector<double> abscissa(int i) const = 0;
+  virtual std::vector<ParamSpec> baseline_params() const = 0;
+  virtual const std::vector<CandidateSpec>& candidates() const = 0;
+  // Evaluates `items` under `state` (local amplitudes fitted per item). Must be thread safe.
+  virtual std::vector<ItemFit> evaluate(const ModelState& state, const std::vector<int>& items) const = 0;
+  // The measured values of item i in residual units (for the noise floor from replicates).
+  virtual Eigen::VectorXd measured(int i) const = 0;
+  // Noise variance per residual element from the data alone, for when there are no replicates
+  // (spectra: high-frequency scatter; camera: patch standard deviations). <0 when unknown.
+  virtual double fallback_noise_variance() const { return -1; }
+  // Sum of squares of item i's measured values about the reference used for "variance explained".
+  virtual double centred_sum_of_squares(int i) const = 0;
+  // Reported quantities derived from the local fits of a cause (may be empty).
+  virtual std::vector<DerivedParam> derived_params(const CandidateSpec& c, const std::vector<ItemFit>& fits,
+                                                   const std::vector<int>& items) const {
+    return {};
+  }
+  // The cause in plain words with its estimates, e.g. "blood absorbs the emission: ...".
+  virtual std::string plain_words(const CandidateSpec& c, const std::vector<double>& theta,
+                                  const std::vector<double>& theta_uncertainty,
+                                  const std::vector<DerivedParam>& derived) const = 0;
+};
+
+}  // namespace ofl

@@ -1,0 +1,432 @@
+#include "renderer/diagnose/diagnose_report.h"
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+
+#include "renderer/core/csv.h"
+#include "renderer/core/error.h"
+#include "renderer/diagnose/svg_plot.h"
+
+namespace ofl {
+
+namespace {
+
+std::string f3(double v) {
+  char b[48];
+  std::snprintf(b, sizeof b, "%.4g", v);
+  return b;
+}
+
+nlohmann::json gains_json(const std::vector<GroupGain>& g) {
+  nlohmann::json a = nlohmann::json::array();
+  for (auto& x : g)
+    a.push_back({{"value", x.value}, {"items", x.items}, {"rmse_before_heldout", x.rmse_before}, {"rmse_after_heldout", x.rmse_after},
+                 {"variance_explained_before_heldout", x.ve_before}, {"variance_explained_after_heldout", x.ve_after}});
+  return a;
+}
+
+nlohmann::json trial_json(const DiagnoseProblem& p, const CandidateTrial& t, int step) {
+  return {{"step", step},
+          {"id", p.candidates()[t.candidate].id},
+          {"rmse_before_heldout", t.rmse_before},
+          {"rmse_after_heldout", t.rmse_after},
+          {"mean_mse_gain", t.mean_gain},
+          {"optimism", t.optimism},
+          {"threshold", t.threshold},
+          {"sd_noise", t.sd_noise},
+          {"se_items", t.se_items},
+          {"folds_improved", t.folds_improved},
+          {"folds", t.folds},
+          {"accepted", t.accepted},
+          {"verdict", t.verdict}};
+}
+
+std::string slug(std::string s) {
+  for (char& c : s)
+    if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+  return s;
+}
+
+void write_text(const std::filesystem::path& f, const std::string& s) {
+  std::ofstream o(f);
+  if (!o) throw InputError(f.string(), "", "cannot write");
+  o << s;
+}
+
+// Groups of items by the report_by column (or one group "all").
+std::vector<std::pair<std::string, std::vector<int>>> report_groups(const DiagnoseProblem& p, const Diagnosis& d) {
+  std::vector<std::pair<std::string, std::vector<int>>> g;
+  std::map<std::string, size_t> at;
+  for (int i = 0; i < p.num_items(); ++i) {
+    std::string v = d.options.report_by.empty() ? "all" : p.condition(i, d.options.report_by);
+    if (!at.count(v)) { at[v] = g.size(); g.push_back({v, {}}); }
+    g[at[v]].second.push_back(i);
+  }
+  return g;
+}
+
+std::string model_name(const DiagnoseProblem& p, const Diagnosis& d, size_t upto) {
+  std::string s = "baseline";
+  for (size_t k = 0; k < upto && k < d.causes.size(); ++k) s += " + " + p.candidates()[d.causes[k].candidate].id;
+  return s;
+}
+
+}  // namespace
+
+nlohmann::json diagnosis_json(const DiagnoseProblem& p, const Diagnosis& d, const ReportContext& ctx) {
+  nlohmann::json j;
+  j["tool"] = "oralfluor diagnose";
+  j["job"] = ctx.job;
+  j["kind"] = p.kind();
+  j["input"] = ctx.input;
+  j["model_file"] = ctx.model_file;
+  j["model_options"] = ctx.model_options;
+  j["items"] = p.num_items();
+  j["notes"] = ctx.notes;
+  j["groups"] = {{"columns", d.options.group_columns}, {"folds", d.folds.names}};
+  j["report_by"] = d.options.report_by;
+  j["rmse_units"] = p.rmse_units();
+  j["noise_floor"] = {{"rmse", d.floor.rmse},
+                      {"source", d.floor.source},
+                      {"replicate_columns", d.options.replicate_columns},
+                      {"lag1_autocorrelation", d.floor.lag1},
+                      {"independent_fraction", d.floor.n_eff_ratio}};
+  j["selection"] = {{"z", d.options.z},
+                    {"max_causes", d.options.max_causes},
+                    {"min_fold_fraction", d.options.min_fold_fraction},
+                    {"min_effect_to_noise", d.options.min_effect_to_noise}};
+  j["rmse_baseline_heldout"] = d.rmse_baseline_heldout;
+  j["rmse_extended_heldout"] = d.rmse_extended_heldout;
+  j["variance_explained_baseline_heldout"] = d.ve_baseline_heldout;
+  j["variance_explained_extended_heldout"] = d.ve_extended_heldout;
+  j["verdict"] = d.verdict;
+  j["significant"] = !d.causes.empty();
+  nlohmann::json causes = nlohmann::json::array();
+  for (auto& c : d.causes) {
+    const CandidateSpec& spec = p.candidates()[c.candidate];
+    nlohmann::json par = nlohmann::json::object(), unc = nlohmann::json::object(), units = nlohmann::json::object();
+    nlohmann::json curv = nlohmann::json::object(), jack = nlohmann::json::object();
+    for (size_t k = 0; k < spec.params.size(); ++k) {
+      par[spec.params[k].name] = c.theta[k];
+      unc[spec.params[k].name] = c.uncertainty[k];
+      units[spec.params[k].name] = spec.params[k].unit;
+      curv[spec.params[k].name] = c.se_curvature[k];
+      jack[spec.params[k].name] = c.se_jackknife[k];
+    }
+    for (auto& dp : c.derived) {
+      par[dp.name] = dp.value;
+      unc[dp.name] = dp.uncertainty;
+      units[dp.name] = dp.unit;
+    }
+    if (spec.name == "extra_fluorophore") par["fluorophore"] = spec.id.substr(spec.id.find(':') + 1);
+    nlohmann::json cj = {{"name", spec.name},
+                         {"id", spec.id},
+                         {"title", spec.title},
+                         {"description", c.words},
+                         {"step", c.step},
+                         {"parameters", par},
+                         {"uncertainty", unc},
+                         {"units", units},
+                         {"uncertainty_curvature", curv},
+                         {"uncertainty_group_jackknife", jack},
+                         {"rmse_before_heldout", c.trial.rmse_before},
+                         {"rmse_after_heldout", c.trial.rmse_after},
+                         {"mean_mse_gain", c.trial.mean_gain},
+                         {"threshold", c.trial.threshold},
+                         {"folds_improved", c.trial.folds_improved},
+                         {"folds", c.trial.folds},
+                         {"solo_rmse_after_heldout", c.solo.rmse_after}};
+    if (!d.options.report_by.empty()) {
+      cj["by_" + d.options.report_by] = gains_json(c.by_report);
+      cj["solo_by_" + d.options.report_by] = gains_json(c.solo_by_report);
+    }
+    causes.push_back(cj);
+  }
+  j["causes"] = causes;
+  nlohmann::json tried = nlohmann::json::array();
+  for (size_t s = 0; s < d.steps.size(); ++s)
+    for (auto& t : d.steps[s]) tried.push_back(trial_json(p, t, static_cast<int>(s + 1)));
+  j["candidates_tried"] = tried;
+  if (!d.options.report_by.empty()) j["by_" + d.options.report_by] = gains_json(d.by_report);
+  j["by_fold"] = gains_json(d.by_fold);
+  // Mean share of each baseline column in the final full-data fit (spectra: fluorophores, leak).
+  std::vector<int> all(p.num_items());
+  for (int i = 0; i < p.num_items(); ++i) all[i] = i;
+  auto fits = p.evaluate(d.final_fit.state, all);
+  std::map<std::string, double> share;
+  for (auto& f : fits)
+    for (auto& [k, v] : f.locals)
+      if (k.rfind("fraction:", 0) == 0) share[k.substr(9)] += v / fits.size();
+  if (!share.empty()) j["mean_fractions_extended_fit"] = share;
+  return j;
+}
+
+std::string diagnosis_text(const DiagnoseProblem& p, const Diagnosis& d, const ReportContext& ctx) {
+  std::ostringstream o;
+  o << "oralfluor diagnose: " << p.num_items() << " " << (p.kind() == "spectra" ? "spectra" : "camera patches") << " from "
+    << ctx.input << "\n";
+  for (auto& n : ctx.notes) o << "  note: " << n << "\n";
+  o << "cross-validation: leave one group out, " << d.folds.count() << " groups by";
+  for (auto& c : d.options.group_columns) o << " " << c;
+  o << "\nRMSE units: " << p.rmse_units() << "\n";
+  o << "noise floor: RMSE " << f3(d.floor.rmse) << " (" << d.floor.source << ")\n\n";
+  o << "held-out RMSE: baseline " << f3(d.rmse_baseline_heldout) << ", extended " << f3(d.rmse_extended_heldout)
+    << "; variance explained " << f3(100 * d.ve_baseline_heldout) << "% -> " << f3(100 * d.ve_extended_heldout) << "%\n";
+  o << "verdict: " << d.verdict << "\n";
+  for (auto& c : d.causes) {
+    const CandidateSpec& s = p.candidates()[c.candidate];
+    o << "\n" << c.step << ". " << s.title << "\n   " << c.words << "\n";
+    o << "   held-out RMSE " << f3(c.trial.rmse_before) << " -> " << f3(c.trial.rmse_after) << " (gain in MSE " << f3(c.trial.mean_gain)
+      << " > threshold " << f3(c.trial.threshold) << "; " << c.trial.folds_improved << "/" << c.trial.folds
+      << " groups improve); alone on the baseline: " << f3(c.solo.rmse_before) << " -> " << f3(c.solo.rmse_after) << "\n";
+    for (auto& g : c.by_report)
+      o << "     " << d.options.report_by << " " << g.value << ": " << f3(g.rmse_before) << " -> " << f3(g.rmse_after) << "\n";
+  }
+  o << "\ncandidates tried (held-out RMSE after adding each, threshold on the MSE gain):\n";
+  for (size_t s = 0; s < d.steps.size(); ++s)
+    for (auto& t : d.steps[s]) {
+      char b[256];
+      std::snprintf(b, sizeof b, "  step %zu  %-34s %9.4g  gain %10.3g  threshold %10.3g  %d/%d  %s\n", s + 1,
+                    p.candidates()[t.candidate].id.c_str(), t.rmse_after, t.mean_gain, t.threshold, t.folds_improved, t.folds,
+                    t.accepted ? "accepted" : t.verdict.c_str());
+      o << b;
+    }
+  if (!d.options.report_by.empty()) {
+    o << "\nheld-out RMSE by " << d.options.report_by << " (baseline -> extended):\n";
+    for (auto& g : d.by_report)
+      o << "  " << g.value << " (" << g.items << "): " << f3(g.rmse_before) << " -> " << f3(g.rmse_after) << ", variance explained "
+        << f3(100 * g.ve_before) << "% -> " << f3(100 * g.ve_after) << "%\n";
+  }
+  return o.str();
+}
+
+std::vector<std::string> write_diagnosis_files(const DiagnoseProblem& p, const Diagnosis& d, const ReportContext& ctx,
+                                               const std::filesystem::path& dir) {
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (ec) throw InputError(dir.string(), "", "cannot create the output folder: " + ec.message());
+  std::vector<std::string> files;
+  auto out = [&](const std::string& name, const std::string& text) {
+    write_text(dir / name, text);
+    files.push_back((dir / name).string());
+  };
+  out("report.json", diagnosis_json(p, d, ctx).dump(2) + "\n");
+  out("report.txt", diagnosis_text(p, d, ctx));
+
+  // Residual table: every held-out residual of the baseline and the extended model.
+  {
+    std::ostringstream o;
+    o << "item,label,group,model,x,measured,predicted,residual\n";
+    for (int m = 0; m < 2; ++m) {
+      const CvRun& cv = m == 0 ? d.baseline_cv : d.final_cv;
+      for (int i = 0; i < p.num_items(); ++i) {
+        auto x = p.abscissa(i);
+        const ItemFit& f = cv.heldout[i];
+        for (Eigen::Index k = 0; k < f.residual.size(); ++k)
+          o << i << "," << csv_quote(p.item_label(i)) << "," << csv_quote(d.folds.names[d.folds.of_item[i]]) << ","
+            << (m == 0 ? "baseline" : "extended") << "," << x[k] << "," << f.measured[k] << "," << f.predicted[k] << ","
+            << f.residual[k] << "\n";
+      }
+    }
+    out("residuals.csv", o.str());
+  }
+
+  auto groups = report_groups(p, d);
+  std::string by = d.options.report_by.empty() ? "all" : d.options.report_by;
+
+  // Held-out gain per report group for the baseline and each model along the selection.
+  {
+    BarChart b;
+    b.title = "held-out RMSE by " + by + ", baseline and each accepted cause added in turn";
+    b.ylabel = "RMSE (" + std::string(p.kind() == "spectra" ? "fraction of mean radiance" : "DN") + ")";
+    std::vector<const CvRun*> runs = {&d.baseline_cv};
+    for (auto& c : d.causes) runs.push_back(&c.trial.cv);
+    for (size_t m = 0; m < runs.size(); ++m) {
+      b.series_names.push_back(m == 0 ? std::string("baseline") : "+ " + p.candidates()[d.causes[m - 1].candidate].id);
+      b.colors.push_back(palette(static_cast<int>(m)));
+      std::vector<double> v;
+      for (auto& [name, items] : groups) v.push_back(group_gain(p, *runs[m], *runs[m], items, name).rmse_before);
+      b.values.push_back(v);
+    }
+    for (auto& g : groups) {
+      b.categories.push_back(g.first);
+      b.markers.push_back(d.floor.rmse);
+    }
+    b.marker_label = "noise floor";
+    out("heldout_rmse_by_" + slug(by) + ".svg", svg_bars(b, 760, 440));
+  }
+  // Every candidate at the first step: held-out gain against its threshold.
+  if (!d.steps.empty()) {
+    BarChart b;
+    b.title = "step 1: held-out MSE gain of each candidate on the baseline (dashed: threshold)";
+    b.ylabel = "mean MSE gain";
+    b.series_names = {"gain"};
+    b.colors = {"#1f77b4"};
+    b.values.resize(1);
+    for (auto& t : d.steps[0]) {
+      b.categories.push_back(p.candidates()[t.candidate].id);
+      b.values[0].push_back(t.mean_gain);
+      b.markers.push_back(t.threshold);
+    }
+    b.marker_label = "threshold";
+    out("candidates_step1.svg", svg_bars(b, 860, 460));
+  }
+
+  if (p.kind() == "spectra") {
+    // Held-out residuals against wavelength, baseline and extended, coloured by report group.
+    std::vector<Plot> panels;
+    for (int m = 0; m < 2; ++m) {
+      const CvRun& cv = m == 0 ? d.baseline_cv : d.final_cv;
+      Plot pl;
+      pl.title = (m == 0 ? "baseline (fluorophores + leak)" : model_name(p, d, d.causes.size())) + ": held-out residuals";
+      pl.xlabel = "wavelength (nm)";
+      pl.ylabel = "measured - predicted (fraction of mean)";
+      pl.zero_line = true;
+      std::set<double> xs;
+      for (int i = 0; i < p.num_items(); ++i)
+        for (double x : p.abscissa(i)) xs.insert(x);
+      std::vector<double> xv(xs.begin(), xs.end());
+      pl.bands.push_back({xv, std::vector<double>(xv.size(), -d.floor.rmse), std::vector<double>(xv.size(), d.floor.rmse), "#888888", 0.25,
+                          "noise floor (+/- 1 RMSE)"});
+      for (size_t g = 0; g < groups.size(); ++g) {
+        std::map<double, std::pair<double, int>> mean;
+        for (int i : groups[g].second) {
+          auto x = p.abscissa(i);
+          const auto& r = cv.heldout[i].residual;
+          PlotSeries s;
+          s.x = x;
+          s.y.assign(r.data(), r.data() + r.size());
+          s.color = palette(static_cast<int>(g));
+          s.width = 0.7;
+          s.opacity = 0.35;
+          pl.series.push_back(s);
+          for (size_t k = 0; k < x.size(); ++k) { mean[x[k]].first += r[k]; mean[x[k]].second++; }
+        }
+        PlotSeries s;
+        for (auto& [x, v] : mean) { s.x.push_back(x); s.y.push_back(v.first / v.second); }
+        s.color = palette(static_cast<int>(g));
+        s.width = 2.5;
+        s.label = "mean, " + by + " " + groups[g].first;
+        pl.series.push_back(s);
+      }
+      panels.push_back(pl);
+    }
+    double lo = 1e9, hi = -1e9;
+    for (auto& pl : panels)
+      for (auto& s : pl.series)
+        for (double v : s.y) { lo = std::min(lo, v); hi = std::max(hi, v); }
+    for (auto& pl : panels) { pl.ymin = lo; pl.ymax = hi; }
+    out("heldout_residuals.svg", svg_panels(panels, 1, 900, 380, "held-out residuals (each spectrum predicted by a model fitted without its group)"));
+
+    // Each accepted cause's signature: mean held-out residual per report group just before and
+    // just after the cause was added.
+    if (!d.causes.empty()) {
+      std::vector<Plot> sig;
+      const CvRun* before = &d.baseline_cv;
+      for (size_t k = 0; k < d.causes.size(); ++k) {
+        const CvRun* after = &d.causes[k].trial.cv;
+        Plot pl;
+        pl.title = std::to_string(k + 1) + ". + " + p.candidates()[d.causes[k].candidate].id;
+        pl.xlabel = "wavelength (nm)";
+        pl.ylabel = "mean held-out residual";
+        pl.zero_line = true;
+        for (size_t g = 0; g < groups.size(); ++g)
+          for (int m = 0; m < 2; ++m) {
+            const CvRun* cv = m == 0 ? before : after;
+            std::map<double, std::pair<double, int>> mean;
+            for (int i : groups[g].second) {
+              auto x = p.abscissa(i);
+              for (size_t q = 0; q < x.size(); ++q) { mean[x[q]].first += cv->heldout[i].residual[q]; mean[x[q]].second++; }
+            }
+            PlotSeries s;
+            for (auto& [x, v] : mean) { s.x.push_back(x); s.y.push_back(v.first / v.second); }
+            s.color = palette(static_cast<int>(g));
+            s.width = m == 0 ? 1.4 : 2.2;
+            s.dashed = m == 0;
+            s.label = (m == 0 ? "before, " : "after, ") + by + " " + groups[g].first;
+            pl.series.push_back(s);
+          }
+        sig.push_back(pl);
+        before = after;
+      }
+      out("cause_signatures.svg", svg_panels(sig, 2, 560, 330, "what each accepted cause explains (held-out residual before -> after)"));
+    }
+
+    // A few spectra: measured, baseline and extended held-out predictions.
+    std::vector<Plot> ex;
+    std::set<std::string> seen;
+    for (int i = 0; i < p.num_items() && ex.size() < 6; ++i) {
+      std::string key = p.condition(i, "site") + "|" + p.condition(i, "light_nm") + "|" + p.condition(i, d.options.report_by);
+      if (seen.count(key)) continue;
+      seen.insert(key);
+      Plot pl;
+      pl.title = p.item_label(i);
+      pl.xlabel = "wavelength (nm)";
+      pl.ylabel = "radiance / mean";
+      auto x = p.abscissa(i);
+      auto vec = [](const Eigen::VectorXd& v) { return std::vector<double>(v.data(), v.data() + v.size()); };
+      pl.series.push_back({x, vec(d.baseline_cv.heldout[i].measured), "#000000", 1.6, 1, false, true, false, "measured"});
+      pl.series.push_back({x, vec(d.baseline_cv.heldout[i].predicted), "#ff7f0e", 1.6, 1, true, true, false, "baseline (held out)"});
+      pl.series.push_back({x, vec(d.final_cv.heldout[i].predicted), "#1f77b4", 1.6, 1, false, true, false, "extended (held out)"});
+      ex.push_back(pl);
+    }
+    out("heldout_fits.svg", svg_panels(ex, 2, 560, 330, "measured spectra and held-out predictions"));
+  } else {
+    std::vector<Plot> panels;
+    const char* ch[3] = {"R", "G", "B"};
+    const char* col[3] = {"#d62728", "#2ca02c", "#1f77b4"};
+    for (int m = 0; m < 2; ++m) {
+      const CvRun& cv = m == 0 ? d.baseline_cv : d.final_cv;
+      Plot pl;
+      pl.title = (m == 0 ? std::string("baseline (linear sensor)") : model_name(p, d, d.causes.size())) + ", held out";
+      pl.xlabel = "measured (DN)";
+      pl.ylabel = "predicted (DN)";
+      pl.diagonal = true;
+      for (int c = 0; c < 3; ++c) {
+        PlotSeries s;
+        s.line = false;
+        s.markers = true;
+        s.color = col[c];
+        s.opacity = 0.7;
+        s.label = ch[c];
+        for (int i = 0; i < p.num_items(); ++i) {
+          s.x.push_back(cv.heldout[i].measured[c]);
+          s.y.push_back(cv.heldout[i].predicted[c]);
+        }
+        pl.series.push_back(s);
+      }
+      panels.push_back(pl);
+    }
+    out("heldout_scatter.svg", svg_panels(panels, 2, 520, 460, "camera: predicted vs measured raw means"));
+    std::vector<Plot> rp;
+    for (int m = 0; m < 2; ++m) {
+      const CvRun& cv = m == 0 ? d.baseline_cv : d.final_cv;
+      Plot pl;
+      pl.title = m == 0 ? "baseline" : model_name(p, d, d.causes.size());
+      pl.xlabel = "patch (item index)";
+      pl.ylabel = "measured - predicted (DN)";
+      pl.zero_line = true;
+      for (int c = 0; c < 3; ++c) {
+        PlotSeries s;
+        s.line = false;
+        s.markers = true;
+        s.color = col[c];
+        s.label = ch[c];
+        for (int i = 0; i < p.num_items(); ++i) {
+          s.x.push_back(i);
+          s.y.push_back(cv.heldout[i].residual[c]);
+        }
+        pl.series.push_back(s);
+      }
+      rp.push_back(pl);
+    }
+    out("heldout_residuals.svg", svg_panels(rp, 1, 900, 320, "camera: held-out residuals per patch"));
+  }
+  return files;
+}
+
+}  // namespace ofl

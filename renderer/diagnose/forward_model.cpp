@@ -1,0 +1,433 @@
+#include "renderer/diagnose/forward_model.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+
+#include "renderer/core/error.h"
+#include "renderer/diagnose/nnls.h"
+#include "renderer/spectral/fluorophore_library.h"
+#include "renderer/spectral/hemoglobin.h"
+
+namespace ofl {
+
+struct SpectraProblem::Effects {
+  bool blood = false;
+  BloodAbsorber absorber;
+  std::vector<int> extras;  // indices into eems_
+  double shift = 0, fwhm = 0, broadening = 0, stray = 0, edge = 0;
+  bool lp_leak = false;
+};
+
+namespace {
+
+bool to_number(const std::string& s, double& v) {
+  if (s.empty()) return false;
+  char* end = nullptr;
+  v = std::strtod(s.c_str(), &end);
+  return end && *end == '\0';
+}
+
+std::string fmt(const char* f, double v) {
+  char b[64];
+  std::snprintf(b, sizeof b, f, v);
+  return b;
+}
+
+// Mean and standard error over items of one named local quantity (items without it are skipped).
+std::pair<double, double> mean_se(const std::vector<ItemFit>& fits, const std::string& key, bool log10_of = false) {
+  std::vector<double> v;
+  for (auto& f : fits) {
+    auto it = f.locals.find(key);
+    if (it == f.locals.end()) continue;
+    double x = it->second;
+    if (log10_of) {
+      if (!(x > 0)) continue;
+      x = std::log10(x);
+    }
+    v.push_back(x);
+  }
+  if (v.empty()) return {0, 0};
+  double m = 0;
+  for (double x : v) m += x;
+  m /= v.size();
+  double s = 0;
+  for (double x : v) s += (x - m) * (x - m);
+  double se = v.size() > 1 ? std::sqrt(s / (v.size() - 1) / v.size()) : 0;
+  return {m, se};
+}
+
+}  // namespace
+
+int match_light(const std::vector<LightEntry>& lights, const std::map<std::string, std::string>& row,
+                const std::string& nearest) {
+  int best = -1;
+  double best_d = 1e300;
+  for (size_t k = 0; k < lights.size(); ++k) {
+    bool ok = true;
+    double d = 0;
+    for (auto& [col, val] : lights[k].when) {
+      auto it = row.find(col);
+      std::string cell = it == row.end() ? std::string() : it->second;
+      if (col == nearest) {
+        double a, b;
+        if (!to_number(cell, a) || !to_number(val, b)) { ok = false; break; }
+        d = std::fabs(a - b);
+      } else if (!cell_matches(cell, val)) {
+        ok = false;
+        break;
+      }
+    }
+    if (ok && d < best_d) { best_d = d; best = static_cast<int>(k); }
+  }
+  return best;
+}
+
+SpectraProblem::SpectraProblem(SpectraSet data, SpectraModel model) : data_(std::move(data)), model_(std::move(model)) {
+  if (model_.lights.empty()) throw InputError("model", "/lights", "no excitation lights given");
+  if (model_.fluorophores.empty()) throw InputError("model", "/fluorophores", "the baseline needs at least one fluorophore");
+  // The grid covers the data and the LED bands with room for shifts and blur at the ends.
+  double lo = 1e9, hi = 0;
+  for (auto& s : data_.spectra) {
+    lo = std::min(lo, s.nm.front());
+    hi = std::max(hi, s.nm.back());
+  }
+  const double pad = 40, step = model_.grid_step_nm;
+  double gmin = std::floor((std::min(lo, 350.0) - pad) / step) * step;
+  if (gmin < step) gmin = step;
+  double gmax = gmin + step * std::ceil((hi + pad - gmin) / step);
+  grid_ = WavelengthGrid{gmin, gmax, step};
+  if (auto p = grid_.problem(); !p.empty()) throw InputError("model", "/grid_step_nm", p);
+
+  // Fluorophores: the baseline, then every extra candidate.
+  eem_names_ = model_.fluorophores;
+  std::vector<std::string> extras;
+  if (model_.candidates.extra_fluorophore) {
+    extras = model_.candidates.extra_from;
+    if (extras.empty())
+      for (auto& e : fluorophore_library())
+        if (std::find(eem_names_.begin(), eem_names_.end(), e.name) == eem_names_.end()) extras.push_back(e.name);
+    for (auto& e : extras)
+      if (std::find(eem_names_.begin(), eem_names_.end(), e) != eem_names_.end())
+        throw InputError("model", "/candidates/extra_fluorophore/from", "\"" + e + "\" is already in the baseline");
+  }
+  for (auto& e : extras) eem_names_.push_back(e);
+  for (auto& n : eem_names_) eems_.push_back(load_fluorophore(n, grid_, model_.base_dir));
+  // With a computed leak the baseline leak column already has the excitation's shape in the
+  // long-pass's blocked band, so the longpass_leak column would duplicate it.
+  SpectraCandidateOptions copt = model_.candidates;
+  if (model_.leak != LeakSource::kMeasured) copt.leak = false;
+  candidates_ = spectra_candidates(copt, extras);
+
+  const int N = grid_.size();
+  for (auto& L : model_.lights) {
+    LightBasis b;
+    auto e = tabulate(L.spectrum, grid_);
+    if (model_.excitation_filter) {
+      auto t = tabulate(model_.excitation_filter->at_angle(0), grid_);
+      for (int i = 0; i < N; ++i) e[i] *= t[i];
+    }
+    for (double& v : e) v = std::max(v, 0.0);
+    // The LED band: from the peak outwards until the light falls below the instrument floor.
+    int pk = static_cast<int>(std::max_element(e.begin(), e.end()) - e.begin());
+    double floor = model_.light_floor_fraction * e[pk];
+    b.e_tail.assign(N, 0.0);
+    for (int i = pk; i < N && e[i] >= floor; ++i) b.e_tail[i] = e[i];
+    for (int i = pk; i >= 0 && e[i] >= floor; --i) b.e_tail[i] = e[i];
+    // Photon units for the EEM (photons per joule ~ wavelength), back to energy on the way out.
+    std::vector<double> eph(N);
+    for (int i = 0; i < N; ++i) eph[i] = b.e_tail[i] * grid_.wavelength(i);
+    for (auto& eem : eems_) {
+      auto col = eem.apply(eph);
+      for (int i = 0; i < N; ++i) col[i] /= grid_.wavelength(i);
+      b.fluor.push_back(std::move(col));
+    }
+    if (L.leak) {
+      b.leak = tabulate(*L.leak, grid_);
+      for (double& v : b.leak) v = std::max(v, 0.0);
+    }
+    b.e = std::move(e);
+    lights_.push_back(std::move(b));
+  }
+
+  for (int i = 0; i < grid_.size(); ++i)
+    if (grid_.wavelength(i) >= model_.fit_min_nm && grid_.wavelength(i) <= model_.fit_max_nm && grid_.wavelength(i) >= lo &&
+        grid_.wavelength(i) <= hi)
+      fit_grid_.push_back(i);
+
+  for (auto& s : data_.spectra) {
+    Item it;
+    std::string where = "line " + std::to_string(s.index_line);
+    it.light = match_light(model_.lights, s.conditions, model_.nearest_column);
+    if (it.light < 0) {
+      std::string cond;
+      for (auto& L : model_.lights)
+        for (auto& [c, v] : L.when) {
+          (void)v;
+          auto f = s.conditions.find(c);
+          if (cond.find(c + "=") == std::string::npos) cond += " " + c + "=" + (f == s.conditions.end() ? "" : f->second);
+        }
+      throw InputError(data_.index_file, where, "no light in the model matches this row (" + cond.substr(cond.empty() ? 0 : 1) + ")");
+    }
+    std::vector<double> y;
+    for (size_t k = 0; k < s.nm.size(); ++k)
+      if (s.nm[k] >= model_.fit_min_nm && s.nm[k] <= model_.fit_max_nm) {
+        it.nm.push_back(s.nm[k]);
+        y.push_back(s.value[k]);
+      }
+    if (it.nm.size() < 8) throw InputError(s.file, "wavelength_nm", "fewer than 8 samples inside the fit range");
+    double m = 0;
+    for (double v : y) m += v;
+    m /= y.size();
+    if (!(m > 0)) throw InputError(s.file, "radiance", "mean radiance over the fit range is not positive");
+    it.mean = m;
+    it.y = Eigen::Map<Eigen::VectorXd>(y.data(), static_cast<Eigen::Index>(y.size())) / m;
+    for (double nm : it.nm) {
+      double x = (nm - grid_.min_nm) / grid_.step_nm;
+      int a = std::clamp(static_cast<int>(std::floor(x)), 0, N - 2);
+      it.lo.push_back(a);
+      it.w.push_back(std::clamp(x - a, 0.0, 1.0));
+    }
+    items_.push_back(std::move(it));
+  }
+}
+
+std::string SpectraProblem::condition(int i, const std::string& column) const {
+  auto& c = data_.spectra[i].conditions;
+  auto it = c.find(column);
+  return it == c.end() ? std::string() : it->second;
+}
+
+SpectraProblem::Effects SpectraProblem::decode(const ModelState& s) const {
+  Effects fx;
+  for (auto& a : s.causes) {
+    const CandidateSpec& c = candidates_[a.candidate];
+    switch (spectra_cause(c)) {
+      case SpectraCause::kBlood:
+        fx.blood = true;
+        fx.absorber.oxy_uM_cm = a.theta[0];
+        fx.absorber.deoxy_uM_cm = a.theta[1];
+        fx.absorber.excitation_path_factor = model_.candidates.blood_excitation_path_factor;
+        break;
+      case SpectraCause::kExtraFluorophore: {
+        auto n = extra_fluorophore_name(c);
+        for (size_t k = model_.fluorophores.size(); k < eem_names_.size(); ++k)
+          if (eem_names_[k] == n) fx.extras.push_back(static_cast<int>(k));
+        break;
+      }
+      case SpectraCause::kShift: fx.shift = a.theta[0]; break;
+      case SpectraCause::kBandwidth: fx.fwhm = a.theta[0]; break;
+      case SpectraCause::kBroadening: fx.broadening = a.theta[0]; break;
+      case SpectraCause::kStray: fx.stray = a.theta[0]; break;
+      case SpectraCause::kLeak: fx.lp_leak = true; break;
+      case SpectraCause::kEdge: fx.edge = a.theta[0]; break;
+    }
+  }
+  return fx;
+}
+
+std::vector<std::vector<double>> SpectraProblem::grid_columns(int light, const Effects& fx,
+                                                              std::vector<std::string>* names) const {
+  const LightBasis& L = lights_[light];
+  const int N = grid_.size();
+  std::vector<double> tb(N, 1.0), tlp(N, 1.0), block(N, 0.0);
+  if (fx.blood) tb = blood_transmittance(fx.absorber, grid_);
+  if (model_.emission_filter) {
+    OpticalFilter f = *model_.emission_filter;
+    f.edge_nm += fx.edge;
+    f.edge2_nm += f.edge2_nm > 0 ? fx.edge : 0;
+    tlp = tabulate(f.at_angle(0), grid_);
+    double tmin = f.kind == OpticalFilter::Kind::kMeasured ? 0.0 : std::pow(10.0, -f.od);
+    double span = std::max(f.peak - tmin, 1e-12);
+    for (int i = 0; i < N; ++i) block[i] = std::clamp((f.peak - tlp[i]) / span, 0.0, 1.0);
+  }
+  std::vector<std::vector<double>> cols;
+  std::vector<int> which;
+  for (size_t k = 0; k < model_.fluorophores.size(); ++k) which.push_back(static_cast<int>(k));
+  for (int k : fx.extras) which.push_back(k);
+  const bool ex_blood = fx.blood && fx.absorber.excitation_path_factor != 0;
+  std::vector<double> eph;
+  if (ex_blood) {
+    eph.resize(N);
+    for (int i = 0; i < N; ++i)
+      eph[i] = L.e_tail[i] * grid_.wavelength(i) * std::pow(tb[i], fx.absorber.excitation_path_factor);
+  }
+  for (int k : which) {
+    std::vector<double> col;
+    if (ex_blood) {
+      col = eems_[k].apply(eph);
+      for (int i = 0; i < N; ++i) col[i] /= grid_.wavelength(i);
+    } else {
+      col = L.fluor[k];
+    }
+    if (fx.broadening > 0) gaussian_blur(col, grid_.step_nm, fx.broadening);
+    for (int i = 0; i < N; ++i) col[i] *= tb[i] * tlp[i];
+    cols.push_back(std::move(col));
+    if (names) names->push_back(eem_names_[k]);
+  }
+  if (model_.leak != LeakSource::kNone) {
+    std::vector<double> col(N);
+    if (model_.leak == LeakSource::kMeasured && !L.leak.empty())
+      col = L.leak;
+    else
+      for (int i = 0; i < N; ++i) col[i] = L.e_tail[i] * tlp[i];
+    cols.push_back(std::move(col));
+    if (names) names->push_back("leak");
+  }
+  if (fx.lp_leak) {
+    std::vector<double> col(N);
+    for (int i = 0; i < N; ++i) col[i] = L.e_tail[i] * block[i];
+    cols.push_back(std::move(col));
+    if (names) names->push_back("longpass_leak");
+  }
+  // The instrument, in the order light meets it: slit blur, wavelength scale, stray light.
+  double fwhm = std::sqrt(model_.instrument_fwhm_nm * model_.instrument_fwhm_nm + fx.fwhm * fx.fwhm);
+  for (auto& c : cols) {
+    if (fwhm > 0) gaussian_blur(c, grid_.step_nm, fwhm);
+    if (fx.shift != 0) shift_samples(c, grid_.step_nm, fx.shift);
+    if (fx.stray > 0 && !fit_grid_.empty()) {
+      double m = 0;
+      for (int i : fit_grid_) m += c[i];
+      m = fx.stray * m / fit_grid_.size();
+      for (double& v : c) v += m;
+    }
+  }
+  return cols;
+}
+
+Eigen::MatrixXd SpectraProblem::sample(const std::vector<std::vector<double>>& cols, const Item& it) const {
+  Eigen::MatrixXd A(static_cast<Eigen::Index>(it.nm.size()), static_cast<Eigen::Index>(cols.size()));
+  for (size_t j = 0; j < cols.size(); ++j)
+    for (size_t r = 0; r < it.nm.size(); ++r)
+      A(static_cast<Eigen::Index>(r), static_cast<Eigen::Index>(j)) =
+          cols[j][it.lo[r]] * (1 - it.w[r]) + cols[j][it.lo[r] + 1] * it.w[r];
+  return A;
+}
+
+std::vector<ItemFit> SpectraProblem::evaluate(const ModelState& state, const std::vector<int>& items) const {
+  Effects fx = decode(state);
+  std::vector<ItemFit> out(items.size());
+  std::map<int, std::vector<std::vector<double>>> cache;
+  std::vector<std::string> names;
+  for (size_t q = 0; q < items.size(); ++q) {
+    const Item& it = items_[items[q]];
+    auto c = cache.find(it.light);
+    if (c == cache.end()) {
+      std::vector<std::string> nm;
+      c = cache.emplace(it.light, grid_columns(it.light, fx, &nm)).first;
+      names = nm;
+    }
+    Eigen::MatrixXd A = sample(c->second, it);
+    NnlsResult r = nnls(A, it.y);
+    ItemFit f;
+    f.measured = it.y;
+    f.predicted = A * r.x;
+    f.residual = it.y - f.predicted;
+    f.local_dofs = r.active;
+    double total = f.predicted.mean();
+    for (Eigen::Index j = 0; j < A.cols(); ++j) {
+      double part = (A.col(j) * r.x[j]).mean();
+      f.locals["fraction:" + names[j]] = total > 0 ? part / total : 0;
+      if (names[j] == "longpass_leak") f.locals["leak_ratio"] = r.x[j] * it.mean;
+    }
+    out[q] = std::move(f);
+  }
+  return out;
+}
+
+SpectraProblem::Design SpectraProblem::design(const ModelState& state, int item) const {
+  Effects fx = decode(state);
+  Design d;
+  auto cols = grid_columns(items_[item].light, fx, &d.names);
+  d.A = sample(cols, items_[item]);
+  return d;
+}
+
+double SpectraProblem::fallback_noise_variance() const {
+  // High-frequency scatter: for white noise the second difference has variance 6 sigma^2. Smooth
+  // spectral structure barely contributes, so this is a lower bound of the real noise floor.
+  double s = 0;
+  long n = 0;
+  for (auto& it : items_)
+    for (Eigen::Index k = 1; k + 1 < it.y.size(); ++k) {
+      double d = it.y[k - 1] - 2 * it.y[k] + it.y[k + 1];
+      s += d * d / 6.0;
+      ++n;
+    }
+  return n ? s / n : -1;
+}
+
+double SpectraProblem::centred_sum_of_squares(int i) const {
+  const auto& y = items_[i].y;
+  return (y.array() - y.mean()).square().sum();
+}
+
+std::vector<DerivedParam> SpectraProblem::derived_params(const CandidateSpec& c, const std::vector<ItemFit>& fits,
+                                                         const std::vector<int>& items) const {
+  std::vector<DerivedParam> d;
+  switch (spectra_cause(c)) {
+    case SpectraCause::kExtraFluorophore: {
+      auto [m, se] = mean_se(fits, "fraction:" + extra_fluorophore_name(c));
+      d.push_back({"mean_fraction", "of the predicted signal", m, se});
+      break;
+    }
+    case SpectraCause::kLeak: {
+      auto [m, se] = mean_se(fits, "leak_ratio", true);
+      d.push_back({"effective_od", "decadic (tissue reflectance included)", -m, se});
+      auto [f, fse] = mean_se(fits, "fraction:longpass_leak");
+      d.push_back({"mean_fraction", "of the predicted signal", f, fse});
+      break;
+    }
+    default: break;
+  }
+  return d;
+}
+
+std::string SpectraProblem::plain_words(const CandidateSpec& c, const std::vector<double>& th,
+                                        const std::vector<double>& u, const std::vector<DerivedParam>& d) const {
+  auto pm = [](double v, double e, const char* f) { return fmt(f, v) + " +/- " + fmt(f, e); };
+  switch (spectra_cause(c)) {
+    case SpectraCause::kBlood: {
+      BloodAbsorber b;
+      b.oxy_uM_cm = th[0];
+      b.deoxy_uM_cm = th[1];
+      std::string s = "Blood absorbs the fluorescence on its way out of the tissue (Beer-Lambert, oxy- and deoxy-hemoglobin): "
+                      "oxy " + pm(th[0], u[0], "%.2f") + " umol/L*cm, deoxy " + pm(th[1], u[1], "%.2f") +
+                      " umol/L*cm (saturation " + fmt("%.0f", 100 * b.saturation()) + "%), optical density " +
+                      fmt("%.3f", blood_optical_density(b, 542)) + " at 542 nm and " + fmt("%.3f", blood_optical_density(b, 577)) +
+                      " at 577 nm; about " + fmt("%.1f", b.total_uM_cm() / (150.0 / 64500.0 * 1e6) * 1e4) +
+                      " um of whole blood.";
+      if (model_.candidates.blood_excitation_path_factor != 0)
+        s += " The excitation light is attenuated too (path factor " + fmt("%.2g", model_.candidates.blood_excitation_path_factor) + ").";
+      return s;
+    }
+    case SpectraCause::kExtraFluorophore:
+      return "A fluorophore missing from the model, " + extra_fluorophore_name(c) + ", makes on average " +
+             pm(100 * d[0].value, 100 * d[0].uncertainty, "%.1f") + "% of the predicted signal.";
+    case SpectraCause::kShift:
+      return "The spectroradiometer's wavelength scale is off by " + pm(th[0], u[0], "%+.2f") +
+             " nm (measured features sit at " + (th[0] >= 0 ? "longer" : "shorter") + " wavelengths than the model puts them).";
+    case SpectraCause::kBandwidth:
+      return "The measured spectra are blurred by an extra Gaussian of " + pm(th[0], u[0], "%.2f") +
+             " nm FWHM beyond the stated instrument bandwidth.";
+    case SpectraCause::kBroadening:
+      return "The tissue's fluorescence bands are broader than the library's spectra: an extra Gaussian of " + pm(th[0], u[0], "%.2f") +
+             " nm FWHM on the emission of every fluorophore (the filter edge stays sharp, so this is not the instrument).";
+    case SpectraCause::kStray:
+      return "A flat background of " + pm(100 * th[0], 100 * u[0], "%.2f") +
+             "% of the mean signal sits under every spectrum (stray light in the spectroradiometer, or an offset).";
+    case SpectraCause::kLeak:
+      return "Excitation light leaks through the long-pass filter in its blocked band at an effective optical density of " +
+             pm(d[0].value, d[0].uncertainty, "%.2f") + " (tissue reflectance included), " +
+             fmt("%.2f", 100 * d[1].value) + "% of the signal on average.";
+    case SpectraCause::kEdge: {
+      double e = model_.emission_filter ? model_.emission_filter->edge_nm : 0;
+      return "The long-pass filter edge is " + pm(th[0], u[0], "%+.2f") + " nm from where the model puts it (" + fmt("%.1f", e) +
+             " -> " + fmt("%.1f", e + th[0]) + " nm), e.g. from the angle of incidence.";
+    }
+  }
+  return c.title;
+}
+
+}  // namespace ofl

@@ -1,0 +1,122 @@
+// The spectra forward model of `oralfluor diagnose`: what a spectroradiometer behind the emission
+// long-pass should see from tissue that is a non-negative mix of library fluorophores under the
+// stated excitation light, plus the excitation light that leaks through the filters.
+//
+// For spectrum i under light L (radiance E(l) in W sr^-1 m^-2 nm^-1):
+//   column k   = T_lp(l) * [sum_ex Phi_k(l, ex) E(ex) ex dex] / l     (photon-unit EEM, energy out)
+//   leak       = measured leak of L (white target through the filters), or E_tail(l) T_lp(l)
+//   y_i(l)/mean(y_i) = sum_k c_ik column_k + a_i leak + residual,  c, a >= 0 (NNLS per spectrum)
+// then the instrument: Gaussian blur (stated FWHM), wavelength shift, stray light. Active causes
+// (model_extensions.h) change these columns or add columns. Residuals are in units of the
+// spectrum's mean radiance over the fit range, so spectra at different LED currents weigh alike.
+#pragma once
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "renderer/diagnose/diagnose_problem.h"
+#include "renderer/diagnose/measurement_set.h"
+#include "renderer/diagnose/model_extensions.h"
+#include "renderer/spectral/eem.h"
+#include "renderer/spectral/optical_filter.h"
+#include "renderer/spectral/spectrum.h"
+
+namespace ofl {
+
+struct LightEntry {
+  std::map<std::string, std::string> when;  // index columns this light is for
+  std::string name;
+  Spectrum spectrum;                        // excitation radiance on the target
+  std::optional<Spectrum> leak;             // measured light through the filters from a white target
+};
+
+enum class LeakSource { kMeasured, kComputed, kNone };
+
+// Everything a spectra diagnosis needs besides the data (parsed from model.json).
+struct SpectraModel {
+  std::vector<std::string> fluorophores = {"collagen", "NADH", "FAD", "keratin", "protoporphyrin"};
+  std::vector<LightEntry> lights;
+  std::string nearest_column;        // when no light matches exactly, nearest in this column
+  double light_floor_fraction = 1e-3;  // light below this fraction of its peak is instrument floor
+  std::optional<OpticalFilter> emission_filter;    // long-pass in front of the instrument
+  std::optional<OpticalFilter> excitation_filter;  // applied to the light spectra
+  LeakSource leak = LeakSource::kComputed;
+  double fit_min_nm = 0, fit_max_nm = 1e9;
+  double grid_step_nm = 2;
+  double instrument_fwhm_nm = 0;     // bandwidth already assumed by the baseline
+  SpectraCandidateOptions candidates;
+  std::filesystem::path base_dir;    // for fluorophore files named relative to the model
+};
+
+class SpectraProblem : public DiagnoseProblem {
+ public:
+  SpectraProblem(SpectraSet data, SpectraModel model);
+
+  std::string kind() const override { return "spectra"; }
+  std::string rmse_units() const override { return "fraction of each spectrum's mean radiance over the fit range"; }
+  int num_items() const override { return static_cast<int>(data_.spectra.size()); }
+  std::string item_label(int i) const override { return data_.spectra[i].label; }
+  std::string condition(int i, const std::string& column) const override;
+  std::vector<double> abscissa(int i) const override { return items_[i].nm; }
+  std::vector<ParamSpec> baseline_params() const override { return {}; }
+  const std::vector<CandidateSpec>& candidates() const override { return candidates_; }
+  std::vector<ItemFit> evaluate(const ModelState& state, const std::vector<int>& items) const override;
+  Eigen::VectorXd measured(int i) const override { return items_[i].y; }
+  double fallback_noise_variance() const override;
+  double centred_sum_of_squares(int i) const override;
+  std::vector<DerivedParam> derived_params(const CandidateSpec& c, const std::vector<ItemFit>& fits,
+                                           const std::vector<int>& items) const override;
+  std::string plain_words(const CandidateSpec& c, const std::vector<double>& theta, const std::vector<double>& unc,
+                          const std::vector<DerivedParam>& derived) const override;
+
+  // The columns of item i under `state` (before the NNLS), in measured units divided by the
+  // spectrum's mean: used to synthesise data with known amplitudes.
+  struct Design {
+    Eigen::MatrixXd A;
+    std::vector<std::string> names;
+  };
+  Design design(const ModelState& state, int item) const;
+  double mean_radiance(int i) const { return items_[i].mean; }
+  const SpectraSet& data() const { return data_; }
+  const SpectraModel& model() const { return model_; }
+  const WavelengthGrid& grid() const { return grid_; }
+  int light_of(int i) const { return items_[i].light; }
+
+ private:
+  struct Item {
+    int light = -1;
+    std::vector<double> nm;  // fit wavelengths
+    Eigen::VectorXd y;       // measured / mean over the fit range
+    double mean = 1;
+    std::vector<int> lo;     // grid interpolation: index and weight
+    std::vector<double> w;
+  };
+  struct LightBasis {
+    std::vector<double> e;        // radiance on the grid (after the excitation filter)
+    std::vector<double> e_tail;   // e with the instrument floor beyond the LED band removed
+    std::vector<std::vector<double>> fluor;  // per EEM: emission column without blood and filter
+    std::vector<double> leak;     // measured leak on the grid (empty if none)
+  };
+  struct Effects;
+  Effects decode(const ModelState& s) const;
+  std::vector<std::vector<double>> grid_columns(int light, const Effects& fx, std::vector<std::string>* names) const;
+  Eigen::MatrixXd sample(const std::vector<std::vector<double>>& cols, const Item& it) const;
+
+  SpectraSet data_;
+  SpectraModel model_;
+  WavelengthGrid grid_;
+  std::vector<std::string> eem_names_;  // baseline fluorophores, then extra candidates
+  std::vector<GridEem> eems_;
+  std::vector<LightBasis> lights_;
+  std::vector<Item> items_;
+  std::vector<CandidateSpec> candidates_;
+  std::vector<int> fit_grid_;  // grid indices inside the fit range (for the stray-light mean)
+};
+
+// The light entry for a row of conditions: all `when` columns equal, except `nearest` (if set)
+// which picks the closest number. -1 when none fits.
+int match_light(const std::vector<LightEntry>& lights, const std::map<std::string, std::string>& row,
+                const std::string& nearest);
+
+}  // namespace ofl

@@ -1,0 +1,80 @@
+#include "renderer/diagnose/material_from_diagnosis.h"
+
+#include <cmath>
+
+#include "renderer/core/error.h"
+#include "renderer/diagnose/model_extensions.h"
+
+namespace ofl {
+
+namespace {
+double need(const nlohmann::json& obj, const char* key, const std::string& cause) {
+  if (!obj.is_object() || !obj.contains(key) || !obj[key].is_number())
+    throw InputError("diagnose report", "/causes/" + cause + "/" + key, "missing number");
+  return obj[key].get<double>();
+}
+double maybe(const nlohmann::json& obj, const char* key) {
+  return obj.is_object() && obj.contains(key) && obj[key].is_number() ? obj[key].get<double>() : 0.0;
+}
+}  // namespace
+
+TissueCorrections tissue_corrections_from_report(const nlohmann::json& report) {
+  TissueCorrections c;
+  if (!report.contains("causes") || !report["causes"].is_array())
+    throw InputError("diagnose report", "/causes", "missing (not a report of oralfluor diagnose?)");
+  double path_factor = 0;
+  if (report.contains("model_options") && report["model_options"].is_object())
+    path_factor = maybe(report["model_options"], "blood_excitation_path_factor");
+  for (auto& cause : report["causes"]) {
+    std::string name = cause.value("name", "");
+    const auto& par = cause.contains("parameters") ? cause["parameters"] : nlohmann::json::object();
+    const auto& unc = cause.contains("uncertainty") ? cause["uncertainty"] : nlohmann::json::object();
+    if (name == "blood_absorption") {
+      BloodAbsorber b;
+      b.oxy_uM_cm = need(par, "oxy_uM_cm", name);
+      b.deoxy_uM_cm = need(par, "deoxy_uM_cm", name);
+      b.excitation_path_factor = path_factor;
+      c.blood = b;
+      c.blood_uncertainty.oxy_uM_cm = maybe(unc, "oxy_uM_cm");
+      c.blood_uncertainty.deoxy_uM_cm = maybe(unc, "deoxy_uM_cm");
+    } else if (name == "extra_fluorophore") {
+      ExtraFluorophoreShare e;
+      if (!par.contains("fluorophore") || !par["fluorophore"].is_string())
+        throw InputError("diagnose report", "/causes/extra_fluorophore/fluorophore", "missing name");
+      e.name = par["fluorophore"].get<std::string>();
+      e.mean_fraction = need(par, "mean_fraction", name);
+      e.uncertainty = maybe(unc, "mean_fraction");
+      c.extra_fluorophores.push_back(e);
+    } else if (name == "emission_broadening") {
+      c.emission_broadening_fwhm_nm = need(par, "fwhm_nm", name);
+    } else if (!name.empty()) {
+      c.instrument_causes.push_back(name);
+    }
+  }
+  return c;
+}
+
+std::vector<double> blood_optical_density_on_grid(const BloodAbsorber& b, const WavelengthGrid& grid) {
+  return tabulate(blood_optical_density_spectrum(b), grid);
+}
+
+GridEem apply_tissue_corrections(const GridEem& eem, const TissueCorrections& c) {
+  GridEem out = eem;
+  const int n = eem.n();
+  if (c.emission_broadening_fwhm_nm > 0) {
+    std::vector<double> col(n);
+    for (int ex = 0; ex < n; ++ex) {
+      double before = 0, after = 0;
+      for (int em = 0; em < n; ++em) { col[em] = eem.at(em, ex); before += col[em]; }
+      if (before <= 0) continue;
+      gaussian_blur(col, eem.grid.step_nm, c.emission_broadening_fwhm_nm);
+      for (int em = 0; em <= ex; ++em) col[em] = 0;  // Stokes
+      for (int em = 0; em < n; ++em) after += col[em];
+      for (int em = 0; em < n; ++em) out.at(em, ex) = after > 0 ? col[em] * before / after : 0;
+    }
+  }
+  if (c.blood) out = apply_blood_to_eem(out, *c.blood);
+  return out;
+}
+
+}  // namespace ofl

@@ -1,0 +1,52 @@
+// Closing the loop (issue 6, item 6): turn the causes a diagnosis accepted into parameters a
+// tissue material can use. Only tissue causes become material parameters: blood absorption (a
+// Beer-Lambert layer of oxy/deoxy hemoglobin), extra fluorophores (with their mean share of the
+// signal) and emission broadening. Instrument causes (wavelength shift, bandwidth, stray light,
+// long-pass leak/edge) and camera causes are returned by name so the caller can route them to
+// the instrument or camera model instead.
+//
+// Intended use by a tissue material (materials/ is the lead's):
+//   TissueCorrections c = tissue_corrections_from_report(json_of("oralfluor diagnose --json"));
+//   GridEem eem_k = apply_tissue_corrections(load_fluorophore(name_k, grid), c);  // per fluorophore
+//   reflectance    = apply_blood_to_reflectance(reflectance, grid, *c.blood);     // if c.blood
+//   or store blood_optical_density_on_grid(*c.blood, grid) as the material's blood OD spectrum.
+#pragma once
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "renderer/spectral/eem.h"
+#include "renderer/spectral/hemoglobin.h"
+
+namespace ofl {
+
+struct ExtraFluorophoreShare {
+  std::string name;          // library name
+  double mean_fraction = 0;  // of the measured signal, averaged over the spectra
+  double uncertainty = 0;
+};
+
+struct TissueCorrections {
+  std::optional<BloodAbsorber> blood;   // with excitation_path_factor from the model options
+  BloodAbsorber blood_uncertainty;      // one standard uncertainty of oxy/deoxy
+  std::vector<ExtraFluorophoreShare> extra_fluorophores;
+  double emission_broadening_fwhm_nm = 0;
+  std::vector<std::string> instrument_causes;  // accepted causes that are not tissue properties
+  bool empty() const { return !blood && extra_fluorophores.empty() && emission_broadening_fwhm_nm <= 0; }
+};
+
+// Reads the JSON report of `oralfluor diagnose` (its "causes" array and "model_options").
+// Throws InputError when a cause it knows lacks a parameter.
+TissueCorrections tissue_corrections_from_report(const nlohmann::json& report);
+
+// Bin-mean decadic optical density of the blood layer on a grid (a tissue material's blood OD).
+std::vector<double> blood_optical_density_on_grid(const BloodAbsorber& b, const WavelengthGrid& grid);
+
+// An EEM with the tissue corrections applied: emission broadened by a Gaussian of the given FWHM
+// (area kept per excitation column, Stokes mask re-applied), then the blood layer
+// (apply_blood_to_eem).
+GridEem apply_tissue_corrections(const GridEem& eem, const TissueCorrections& c);
+
+}  // namespace ofl

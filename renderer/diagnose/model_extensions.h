@@ -1,0 +1,61 @@
+// The candidate causes `diagnose` can name, each a model extension with its own parameters, and
+// the spectral operations they need.
+//
+// Spectra (spectroradiometer, fluorophore-only baseline):
+//   blood_absorption     Beer-Lambert oxy/deoxy hemoglobin on the emission (optionally the
+//                        excitation): global oxy_uM_cm, deoxy_uM_cm
+//   extra_fluorophore:X  library fluorophore X missing from the baseline: one amplitude per spectrum
+//   wavelength_shift     the instrument's wavelength scale is off: global delta_nm
+//   bandwidth            the instrument blurs more than stated: global Gaussian fwhm_nm
+//   emission_broadening  the tissue's fluorescence bands are broader than the library's (solution)
+//                        spectra: global Gaussian fwhm_nm on the emission only, so unlike
+//                        `bandwidth` it leaves the filter edge and the leak sharp
+//   stray_light          a flat background proportional to the total signal: global fraction
+//   longpass_leak        excitation light leaking through the long-pass in its blocked band: one
+//                        amplitude per spectrum, reported as the filter's effective OD
+//   longpass_edge        the long-pass edge sits elsewhere (angle, temperature): global shift_nm
+// Camera (linear sensor baseline, one exposure gain):
+//   channel_gain (gain_r, gain_b relative to green), crosstalk (6 off-diagonal fractions),
+//   offset (per channel, DN), nonlinearity (gamma), qe_shift (delta_nm), nir_leak (transmittance
+//   of the IR-cut filter beyond its edge).
+#pragma once
+#include <string>
+#include <vector>
+
+#include "renderer/diagnose/diagnose_problem.h"
+
+namespace ofl {
+
+enum class SpectraCause { kBlood, kExtraFluorophore, kShift, kBandwidth, kBroadening, kStray, kLeak, kEdge };
+enum class CameraCause { kGain, kCrosstalk, kOffset, kNonlinearity, kQeShift, kNirLeak };
+
+// Which spectra candidates to try (model JSON "candidates").
+struct SpectraCandidateOptions {
+  bool blood = true;
+  double blood_excitation_path_factor = 0;  // 0: blood attenuates the emission only
+  bool extra_fluorophore = true;
+  std::vector<std::string> extra_from;      // empty: every library fluorophore not in the baseline
+  bool shift = true, bandwidth = true, broadening = true, stray = true, leak = true, edge = true;
+};
+
+struct CameraCandidateOptions {
+  bool gain = true, crosstalk = true, offset = true, nonlinearity = true, qe_shift = true, nir_leak = true;
+};
+
+std::vector<CandidateSpec> spectra_candidates(const SpectraCandidateOptions& o, const std::vector<std::string>& extra_names);
+SpectraCause spectra_cause(const CandidateSpec& c);
+// The fluorophore named by an extra_fluorophore candidate id ("extra_fluorophore:FAD" -> "FAD").
+std::string extra_fluorophore_name(const CandidateSpec& c);
+
+// `signal_scale`: typical raw value (DN), so that offsets get sensible steps and bounds.
+std::vector<CandidateSpec> camera_candidates(const CameraCandidateOptions& o, double signal_scale);
+CameraCause camera_cause(const CandidateSpec& c);
+
+// Operations on a spectrum sampled every `step_nm` (linear in the samples).
+// Gaussian blur of full width at half maximum `fwhm_nm`; near the ends the kernel is renormalised
+// over the samples it covers, so a constant stays constant.
+void gaussian_blur(std::vector<double>& v, double step_nm, double fwhm_nm);
+// v'(l) = v(l - delta): a feature at l0 moves to l0 + delta (linear interpolation, ends clamped).
+void shift_samples(std::vector<double>& v, double step_nm, double delta_nm);
+
+}  // namespace ofl
