@@ -73,6 +73,8 @@ c = d["fluorescence_cost"]
 print()
 print(f"Cost of fluorescence: {c['seconds_with']:.2f} s with, {c['seconds_without']:.2f} s without at {c['spp']} spp: **{c['ratio']:.2f}x** (target < 1.5x).")
 PY
+  # Sections measured by benchmarks that take long (the diagnose sweeps, the camera PTC) are kept
+  # as fragments in results.d/ and re-run by hand with the commands they show.
   for extra in "$root"/benchmarks/results.d/*.md; do
     [ -f "$extra" ] || continue
     echo

@@ -35,8 +35,9 @@ struct Material {
   std::string name;
   std::vector<double> reflectance;        // R on the grid, 0..1
   std::vector<FluorophoreLayer> fluorophores;
-  std::vector<double> base_transmittance; // one-way transmittance of an absorbing layer over the
-                                          // base (blood), empty = none; applied as T(em) A T(ex)
+  // An absorbing layer over the base (blood): transmittance on the way out (emission) and on the
+  // way in (excitation); the albedo matrix becomes diag(T_out) A diag(T_in). Empty = none.
+  std::vector<double> layer_out, layer_in;
   Coating coating;
   std::vector<double> emission;           // Lambertian emitted radiance, W sr^-1 m^-2 nm^-1, empty = none
   int reflectance_texture = -1;           // optional grayscale map multiplying R

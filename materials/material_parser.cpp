@@ -29,15 +29,15 @@ AlbedoCheck photon_albedo_check(const Material& m, const std::vector<GridEem>& e
     double c = f.concentration * max_factor(f);
     for (int i = 0; i < N; ++i) a[i] += c * pa[i];
   }
-  if (!m.base_transmittance.empty()) {
-    // Through an absorbing layer: T(ex) [R T + sum Phi T(em)]; bounded by the unlayered value.
+  if (!m.layer_out.empty()) {
+    // Through an absorbing layer: T_in(ex) [R T_out + sum Phi T_out(em)]; never above the bare value.
     for (int ex = 0; ex < N; ++ex) {
-      double s = m.reflectance[ex] * rscale * m.base_transmittance[ex];
+      double s = m.reflectance[ex] * rscale * m.layer_out[ex];
       for (auto& f : m.fluorophores) {
         double c = f.concentration * max_factor(f);
-        for (int em = ex + 1; em < N; ++em) s += c * eems[f.eem].at(em, ex) * grid.step_nm * m.base_transmittance[em];
+        for (int em = ex + 1; em < N; ++em) s += c * eems[f.eem].at(em, ex) * grid.step_nm * m.layer_out[em];
       }
-      a[ex] = m.base_transmittance[ex] * s;
+      a[ex] = m.layer_in[ex] * s;
     }
   }
   AlbedoCheck r;

@@ -9,16 +9,77 @@
 //   "extra_fluorophores": [<fluorophore layer>, ...]   appended as written (e.g. a second
 //                                             protoporphyrin layer mapped to a lesion)
 //   "coating": {"ior": 1.33, "roughness": 0.25} | false
+//   "blood": {"oxy_uM_cm": 3.8, "deoxy_uM_cm": 2.3, "excitation_path_factor": 1}
+//          | {"thickness_um": 25, "saturation": 0.7, "volume_fraction": 1, "hemoglobin_g_per_L": 150}
+//                                             a Beer-Lambert hemoglobin layer over the base: the
+//                                             light leaving is attenuated by 10^-OD(em), the light
+//                                             entering by 10^-f OD(ex) (f = excitation_path_factor)
+//   "diagnosis": "report.json"                the tissue causes an `oralfluor diagnose --json` report
+//                                             accepted: blood absorption (as "blood"), emission
+//                                             broadening (applied to every fluorophore's EEM) and
+//                                             extra fluorophores (concentration set so that their
+//                                             share of the fluorescence is the reported one)
 #include <filesystem>
 
+#include <algorithm>
+#include <optional>
+
 #include "materials/material_parser.h"
+#include "renderer/diagnose/material_from_diagnosis.h"
+#include "renderer/spectral/hemoglobin.h"
 #include "renderer/core/asset_path.h"
 #include "renderer/core/error.h"
 
 namespace ofl {
 
+namespace {
+
+BloodAbsorber parse_blood(const JsonNode& b) {
+  b.check_keys({"oxy_uM_cm", "deoxy_uM_cm", "thickness_um", "saturation", "volume_fraction", "hemoglobin_g_per_L",
+                "excitation_path_factor"});
+  BloodAbsorber a;
+  if (b.has("thickness_um")) {
+    if (b.has("oxy_uM_cm") || b.has("deoxy_uM_cm")) b.fail("give either oxy_uM_cm/deoxy_uM_cm or thickness_um/saturation");
+    a = BloodAbsorber::whole_blood(b.at("thickness_um").number(0.0, 1e4), b.number_or("saturation", 0.7, 0.0, 1.0),
+                                   b.number_or("volume_fraction", 1.0, 0.0, 1.0), b.number_or("hemoglobin_g_per_L", 150.0, 0.0, 500.0));
+  } else {
+    a.oxy_uM_cm = b.number_or("oxy_uM_cm", 0.0, 0.0, 1e6);
+    a.deoxy_uM_cm = b.number_or("deoxy_uM_cm", 0.0, 0.0, 1e6);
+  }
+  a.excitation_path_factor = b.number_or("excitation_path_factor", 1.0, 0.0, 10.0);
+  return a;
+}
+
+// Sets the concentration of each extra fluorophore named by a diagnosis so that its share of the
+// fluorescence photons (470-750 nm, the diagnosis' fit range) under a 405 nm LED (15 nm FWHM) is
+// the share the diagnosis measured: c_x S_x / (S_rest + c_x S_x) = f.
+void set_extra_shares(Material& m, const TissueCorrections& corr, MaterialContext& ctx) {
+  const WavelengthGrid& g = ctx.grid;
+  auto led = tabulate(gaussian_spectrum(405, 15), g);
+  auto signal = [&](const FluorophoreLayer& f) {
+    auto e = (*ctx.eems)[f.eem].apply(led);
+    double s = 0;
+    for (int i = 0; i < g.size(); ++i)
+      if (g.wavelength(i) >= 470 && g.wavelength(i) <= 750) s += e[i];
+    return s;
+  };
+  double rest = 0;
+  for (auto& f : m.fluorophores) rest += f.concentration * signal(f);
+  for (auto& x : corr.extra_fluorophores) {
+    for (auto& f : m.fluorophores) {
+      if (f.name != x.name || f.concentration != 0) continue;
+      double sx = signal(f);
+      double share = std::clamp(x.mean_fraction, 0.0, 0.95);
+      if (sx > 0) f.concentration = share * rest / ((1 - share) * sx);
+    }
+  }
+}
+
+}  // namespace
+
 Material parse_tissue(const JsonNode& n, MaterialContext& ctx, const std::string& forced_preset) {
-  n.check_keys({"type", "preset", "reflectance", "concentrations", "fluorescence_scale", "textures", "extra_fluorophores", "coating"});
+  n.check_keys({"type", "preset", "reflectance", "concentrations", "fluorescence_scale", "textures", "extra_fluorophores",
+                "coating", "blood", "diagnosis"});
   std::string preset = forced_preset.empty() ? n.at("preset").string() : n.string_or("preset", forced_preset);
   auto file = asset_root() / "tissues" / (preset + ".json");
   std::error_code ec;
@@ -98,13 +159,46 @@ Material parse_tissue(const JsonNode& n, MaterialContext& ctx, const std::string
       mat["roughness"] = c->number_or("roughness", mat.value("roughness", 0.2), 0.001, 1.0);
     }
   }
+  // A diagnosis report: its extra fluorophores join the layers before parsing (concentration fixed
+  // below, once the EEMs are on the grid).
+  TissueCorrections corr;
+  if (auto d = n.find("diagnosis")) {
+    auto report_file = d->existing_file();
+    JsonFile rep = JsonFile::load(report_file);
+    try {
+      corr = tissue_corrections_from_report(rep.doc());
+    } catch (const InputError& e) {
+      throw InputError(report_file.string(), e.field(), e.what());
+    }
+    for (auto& x : corr.extra_fluorophores) base["fluorophores"].push_back({{"name", x.name}, {"concentration", 0.0}});
+  }
   // Parse the merged material; errors in it name the preset file and the merged pointer.
   JsonFile merged = JsonFile::from(mat, file.string() + " (preset as modified by " + n.file() + " " + n.path() + ")");
   JsonNode m = merged.root();
   std::string type = m.at("type").string();
-  if (type == "coated") return parse_coated(m, ctx);
-  if (type == "fluorescent") return parse_fluorescent(m, ctx);
-  return parse_lambertian(m, ctx);
+  Material out = type == "coated" ? parse_coated(m, ctx) : type == "fluorescent" ? parse_fluorescent(m, ctx) : parse_lambertian(m, ctx);
+
+  if (corr.emission_broadening_fwhm_nm > 0) {
+    // Broaden this material's own copies of its EEMs (other materials keep the library's).
+    TissueCorrections broaden_only;
+    broaden_only.emission_broadening_fwhm_nm = corr.emission_broadening_fwhm_nm;
+    for (auto& f : out.fluorophores) {
+      ctx.eems->push_back(apply_tissue_corrections((*ctx.eems)[f.eem], broaden_only));
+      f.eem = static_cast<int>(ctx.eems->size()) - 1;
+    }
+  }
+  if (!corr.extra_fluorophores.empty()) set_extra_shares(out, corr, ctx);
+
+  std::optional<BloodAbsorber> blood = corr.blood;
+  if (auto b = n.find("blood")) blood = parse_blood(*b);
+  if (blood) {
+    out.layer_out = blood_transmittance(*blood, ctx.grid);
+    BloodAbsorber in = *blood;
+    in.oxy_uM_cm *= blood->excitation_path_factor;
+    in.deoxy_uM_cm *= blood->excitation_path_factor;
+    out.layer_in = blood_transmittance(in, ctx.grid);
+  }
+  return out;
 }
 
 }  // namespace ofl

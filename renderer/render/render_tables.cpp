@@ -34,10 +34,10 @@ RenderTables::RenderTables(const Scene& sc, const std::vector<double>& importanc
 
   for (const Material& m : sc.materials) {
     MaterialTables t;
-    const auto& T = m.base_transmittance;
-    auto tr = [&](int k) { return T.empty() ? 1.0 : T[k]; };
+    auto t_out = [&](int k) { return m.layer_out.empty() ? 1.0 : m.layer_out[k]; };
+    auto t_in = [&](int k) { return m.layer_in.empty() ? 1.0 : m.layer_in[k]; };
     t.reflectance.resize(n);
-    for (int k = 0; k < n; ++k) t.reflectance[k] = float(m.reflectance[k] * tr(k) * tr(k));
+    for (int k = 0; k < n; ++k) t.reflectance[k] = float(m.reflectance[k] * t_out(k) * t_in(k));
     if (!m.emission.empty()) {
       t.emission.resize(n);
       for (int k = 0; k < n; ++k) t.emission[k] = float(m.emission[k] * photons_per_joule(grid.wavelength(k)));
@@ -65,7 +65,7 @@ RenderTables::RenderTables(const Scene& sc, const std::vector<double>& importanc
         for (int em = 0; em < n; ++em) {
           double acc = 0;
           for (int ex = 0; ex < em; ++ex) {
-            double v = e.at(em, ex) * step * tr(em) * tr(ex);
+            double v = e.at(em, ex) * step * t_out(em) * t_in(ex);
             ft.phi[size_t(em) * n + ex] = float(v);
             acc += v;
             ft.row_cdf[size_t(em) * n + ex] = float(acc);
