@@ -151,6 +151,17 @@ BenchResult finish(BenchResult b, const Rendered& r, const BenchOptions& o) {
 }
 
 
+PlaneRadiance point_led_on_plane(const LedLight& led, std::vector<double> per_unit) {
+  return [&led, per_unit](const glm::dvec3& p, std::vector<double>& out) {
+    glm::dvec3 to = p - led.position;
+    double r2 = glm::dot(to, to);
+    glm::dvec3 d = to / std::sqrt(r2);
+    double e = led.profile.eval(glm::dot(d, led.axis)) * (-d.z) / r2;
+    for (size_t b = 0; b < out.size(); ++b) out[b] = per_unit[b] * e;
+    return true;
+  };
+}
+
 Reference uniform_reference(const Scene& sc, const std::vector<double>& bands) {
   Reference ref;
   size_t n = size_t(sc.camera.width) * sc.camera.height;

@@ -30,6 +30,9 @@ struct Reference {
 // `blocked(camera, point)` marks pixels whose view of the plane is hidden.
 Reference plane_reference(const Scene& sc, const PlaneRadiance& f,
                           const std::function<bool(const glm::dvec3&, const glm::dvec3&)>& blocked);
+// Radiance of a Lambertian point of the plane z = 0 lit by a point LED: per band `per_unit` times
+// P(theta) cos(theta_i) / r^2 (per_unit carries the spectrum, I0 and 1/pi).
+PlaneRadiance point_led_on_plane(const LedLight& led, std::vector<double> per_unit);
 // The same reference value for every pixel.
 Reference uniform_reference(const Scene& sc, const std::vector<double>& bands);
 

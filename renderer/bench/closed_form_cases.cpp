@@ -39,16 +39,7 @@ BenchResult lambert_point_led(const BenchOptions& o) {
   auto RS = sc.materials[0].reflectance;
   for (size_t i = 0; i < RS.size(); ++i) RS[i] *= led.spectral_intensity[i] / kPi;
   auto rs_bands = to_bands(sc, RS);
-  auto f = [&](const glm::dvec3& p, std::vector<double>& out) {
-    glm::dvec3 to = p - led.position;
-    double r2 = glm::dot(to, to);
-    glm::dvec3 d = to / std::sqrt(r2);
-    double cos_led = glm::dot(d, led.axis), cos_i = -d.z;
-    double e = led.profile.eval(cos_led) * cos_i / r2;
-    for (size_t b = 0; b < out.size(); ++b) out[b] = rs_bands[b] * e;
-    return true;
-  };
-  Reference ref = plane_reference(sc, f, nullptr);
+  Reference ref = plane_reference(sc, point_led_on_plane(led, rs_bands), nullptr);
   // Pixel where the LED axis meets the patch, for an on-axis region.
   glm::dvec3 a = led.axis;
   glm::dvec3 hit = led.position + (-led.position.z / a.z) * a;

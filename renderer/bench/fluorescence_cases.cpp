@@ -63,15 +63,7 @@ BenchResult fluorescent_patch(const BenchOptions& o, bool narrow) {
   Eigen::VectorXd Lq = (phi * Eq) / kPi;
   for (int i = 0; i < n; ++i) Lq(i) += m.reflectance[i] * Eq(i) / kPi;
   auto lb = to_bands(sc, photons_to_watts(sc, Lq));
-  auto f = [&](const glm::dvec3& p, std::vector<double>& out) {
-    glm::dvec3 to = p - led.position;
-    double r2 = glm::dot(to, to);
-    glm::dvec3 d = to / std::sqrt(r2);
-    double e = led.profile.eval(glm::dot(d, led.axis)) * (-d.z) / r2;
-    for (size_t b = 0; b < out.size(); ++b) out[b] = lb[b] * e;
-    return true;
-  };
-  Reference ref = plane_reference(sc, f, nullptr);
+  Reference ref = plane_reference(sc, point_led_on_plane(led, lb), nullptr);
   glm::dvec3 a = led.axis;
   auto px = pixel_of(sc.camera, led.position + (-led.position.z / a.z) * a);
   auto b = compare(name, sc, r.result.image, ref,
@@ -164,15 +156,7 @@ BenchResult reradiation_only(const BenchOptions& o) {
   for (int i = 0; i < n; ++i) Eq(i) = led.spectral_photons[i];
   Eigen::VectorXd Lq = mixture_eem(sc, sc.materials[0]) * sc.grid().step_nm * Eq / kPi;
   auto lb = to_bands(sc, photons_to_watts(sc, Lq));
-  auto f = [&](const glm::dvec3& p, std::vector<double>& out) {
-    glm::dvec3 to = p - led.position;
-    double r2 = glm::dot(to, to);
-    glm::dvec3 d = to / std::sqrt(r2);
-    double e = led.profile.eval(glm::dot(d, led.axis)) * (-d.z) / r2;
-    for (size_t b = 0; b < out.size(); ++b) out[b] = lb[b] * e;
-    return true;
-  };
-  auto b = compare("reradiation_only", sc, r.result.image, plane_reference(sc, f, nullptr), {{"whole", {0, 0, sc.camera.width, sc.camera.height}}});
+  auto b = compare("reradiation_only", sc, r.result.image, plane_reference(sc, point_led_on_plane(led, lb), nullptr), {{"whole", {0, 0, sc.camera.width, sc.camera.height}}});
   // Output bands are the grid bins here; every band at or below the lowest excitation bin must be 0.
   double lowest_nm = sc.grid().wavelength(lowest);
   double below = 0, above = 0;
