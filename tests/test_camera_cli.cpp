@@ -94,7 +94,8 @@ TEST(CameraCli, WritesRawSidecarDngElectronsAndPreview) {
   EXPECT_NEAR(e[4 * 1 + 3], e[4 * 1 + 1] + dark, 1e-3 * e[7]);  // (1, 0) is green
 
   // A standard raw decoder reads the DNG as the same mosaic (dcraw -D: no scaling).
-  if (!have("dcraw")) GTEST_SKIP() << "dcraw not installed: DNG not checked";
+  // .ci/install-deps.sh installs dcraw, so a missing decoder is a set-up failure, not a skip.
+  ASSERT_TRUE(have("dcraw")) << "dcraw not installed (run .ci/install-deps.sh)";
   auto dec = dir / "dcraw.tiff";
   ASSERT_EQ(std::system(("dcraw -D -4 -T -c " + (out / "raw.dng").string() + " > " + dec.string()).c_str()), 0);
   int ch = 0;
