@@ -65,6 +65,34 @@ BenchResult lambert_point_led(const BenchOptions& o) {
   return finish(b, r, o);
 }
 
+// The flat patch of shared/bench/README.md: a 10 x 10 cm Lambertian square (R = 0.5) under an
+// isotropic point light 10 cm above its centre, seen from 30 cm with an 18 degree field of view:
+// L = (R / pi) I h / r^3 with r the distance from the light to the surface point.
+BenchResult flatpatch(const BenchOptions& o) {
+  json j = base_scene(o, 1);
+  j["camera"] = {{"position", {0, 0, 0.3}}, {"look_at", {0, 0, 0}}, {"up", {0, 1, 0}}, {"fov_deg", 18}, {"resolution", {128, 128}}};
+  j["materials"] = {{"patch", {{"type", "lambertian"}, {"reflectance", 0.5}}}};
+  j["geometry"] = {{{"type", "quad"}, {"center", {0, 0, 0}}, {"u", {0.1, 0, 0}}, {"v", {0, 0.1, 0}}, {"material", "patch"}}};
+  j["lights"] = {{{"type", "led"}, {"spd", 1.0}, {"radiant_intensity_W_sr", 1.0}, {"profile", {{"cos_power", 0}}},
+                  {"position", {0, 0, 0.1}}, {"axis", {0, 0, -1}}}};
+  Rendered r = render_json(j, "flatpatch");
+  const Scene& sc = r.scene;
+  const LedLight& led = sc.lights[0];
+  std::vector<double> per(sc.grid().size());
+  for (size_t i = 0; i < per.size(); ++i) per[i] = 0.5 / kPi * led.spectral_intensity[i];
+  auto pb = to_bands(sc, per);
+  auto f = [&](const glm::dvec3& p, std::vector<double>& out) {
+    if (std::fabs(p.x) > 0.05 || std::fabs(p.y) > 0.05) return false;  // off the patch
+    double r = glm::length(p - led.position);
+    for (size_t b = 0; b < out.size(); ++b) out[b] = pb[b] * 0.1 / (r * r * r);
+    return true;
+  };
+  const auto& c = sc.camera;
+  auto b = compare("flatpatch", sc, r.result.image, plane_reference(sc, f, nullptr),
+                   {{"centre", {c.width / 2 - 4, c.height / 2 - 4, c.width / 2 + 4, c.height / 2 + 4}}, {"whole", {0, 0, c.width, c.height}}});
+  return finish(b, r, o);
+}
+
 // Case 4: a Lambertian disk LED (m = 1, radius a) above a patch; irradiance of a point of a
 // parallel plane at distance h and radial offset rho: E = pi L / 2 (1 - (h^2 + rho^2 - a^2) /
 // sqrt((h^2 + rho^2 + a^2)^2 - 4 rho^2 a^2)); on the axis this is E = pi L a^2 / (h^2 + a^2).
@@ -153,6 +181,7 @@ nlohmann::json BenchResult::to_json() const {
 std::vector<BenchCaseInfo> bench_cases() {
   return {
       {"lambert_point_led", "Lambertian patch under a tilted point LED with a cos^m profile (30 deg half-angle): L = R I0 S P(theta) cos(theta_i) / (pi r^2), on- and off-axis pixels", 256},
+      {"flatpatch", "the flat patch of shared/bench/README.md: R = 0.5 square under an isotropic point light 10 cm above: L = (R / pi) I h / r^3", 256},
       {"disk_led", "Lambertian disk LED (radius 15 mm, 30 mm above a patch): E = pi L a^2 / (h^2 + a^2) on axis and the parallel-plane disk formula off axis; checks MIS", 256},
       {"closed_sphere", "camera inside a closed emitting Lambertian sphere: L = Le / (1 - R) per wavelength (multiple bounces, Russian roulette)", 256},
       {"fluorescent_patch", "fluorescent patch (R + NADH + FAD + collagen) under a tilted broadband point LED: L(em) = [R E(em) + sum_ex Phi(em, ex) E(ex) dlambda] / pi in photon units", 256},
@@ -165,6 +194,7 @@ std::vector<BenchCaseInfo> bench_cases() {
 
 BenchResult run_bench_case(const std::string& name, const BenchOptions& o) {
   if (name == "lambert_point_led") return lambert_point_led(o);
+  if (name == "flatpatch") return flatpatch(o);
   if (name == "disk_led") return disk_led(o);
   if (name == "closed_sphere") return closed_sphere(o);
   if (name == "fluorescent_patch") return fluorescent_patch(o, false);
