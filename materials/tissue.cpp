@@ -149,16 +149,6 @@ Material parse_tissue(const JsonNode& n, MaterialContext& ctx, const std::string
       base["fluorophores"].push_back(layer);
     }
   }
-  if (auto c = n.find("coating")) {
-    if (c->raw().is_boolean() && !c->boolean()) {
-      nlohmann::json b = base;
-      mat = b;
-    } else {
-      c->check_keys({"ior", "roughness"});
-      mat["ior"] = c->number_or("ior", mat.value("ior", 1.33), 1.0, 3.0);
-      mat["roughness"] = c->number_or("roughness", mat.value("roughness", 0.2), 0.001, 1.0);
-    }
-  }
   // A diagnosis report: its extra fluorophores join the layers before parsing (concentration fixed
   // below, once the EEMs are on the grid).
   TissueCorrections corr;
@@ -171,6 +161,17 @@ Material parse_tissue(const JsonNode& n, MaterialContext& ctx, const std::string
       throw InputError(report_file.string(), e.field(), e.what());
     }
     for (auto& x : corr.extra_fluorophores) base["fluorophores"].push_back({{"name", x.name}, {"concentration", 0.0}});
+  }
+  // The coating last: dropping it replaces `mat` by the base, which `base` refers into.
+  if (auto c = n.find("coating")) {
+    if (c->raw().is_boolean() && !c->boolean()) {
+      nlohmann::json b = base;
+      mat = std::move(b);
+    } else {
+      c->check_keys({"ior", "roughness"});
+      mat["ior"] = c->number_or("ior", mat.value("ior", 1.33), 1.0, 3.0);
+      mat["roughness"] = c->number_or("roughness", mat.value("roughness", 0.2), 0.001, 1.0);
+    }
   }
   // Parse the merged material; errors in it name the preset file and the merged pointer.
   JsonFile merged = JsonFile::from(mat, file.string() + " (preset as modified by " + n.file() + " " + n.path() + ")");
