@@ -45,9 +45,10 @@ TissueCorrections tissue_corrections_from_report(const nlohmann::json& report);
 std::vector<double> blood_optical_density_on_grid(const BloodAbsorber& b, const WavelengthGrid& grid);
 
 // An EEM with the tissue corrections applied: emission broadened by a Gaussian of the given FWHM
-// (each excitation column blurred as the diagnosis blurs an emission column; what the blur moves
-// to or below the excitation wavelength is dropped, so the EEM above the diagonal is the fitted
-// model's and the photon albedo can only decrease), then the blood layer (apply_blood_to_eem).
+// (each excitation column blurred as the diagnosis blurs an emission column, in energy units;
+// what the blur moves to or below the excitation wavelength is dropped, so the EEM above the
+// diagonal is the fitted model's and the photon albedo can only decrease), then the blood layer
+// (apply_blood_to_eem).
 GridEem apply_tissue_corrections(const GridEem& eem, const TissueCorrections& c);
 
 }  // namespace ofl
