@@ -313,23 +313,25 @@ int run(int argc, char** argv) {
   }
   out["diagnosis"]["by_" + report_by] = diag_by;
 
-  std::printf("diagnose_loop: %s, %d spectra, causes: %s\n", args.input.c_str(), p.num_items(), causes.c_str());
-  std::printf("diagnosis (held out, %d folds): baseline %.4f -> extended %.4f, gain %.2fx as reported; "
-              "with the extended model's instrument for both: %.4f -> %.4f, gain %.2fx\n",
-              folds.count(), d.rmse_baseline_heldout, d.rmse_extended_heldout, d.rmse_baseline_heldout / d.rmse_extended_heldout,
-              pooled_rmse(diag_base, all), pooled_rmse(diag_ext, all), pooled_rmse(diag_base, all) / pooled_rmse(diag_ext, all));
+  // The tables go to stdout, or to stderr when stdout carries the JSON.
+  FILE* txt = args.json ? stderr : stdout;
+  std::fprintf(txt, "diagnose_loop: %s, %d spectra, causes: %s\n", args.input.c_str(), p.num_items(), causes.c_str());
+  std::fprintf(txt, "diagnosis (held out, %d folds): baseline %.4f -> extended %.4f, gain %.2fx as reported; "
+                    "with the extended model's instrument for both: %.4f -> %.4f, gain %.2fx\n",
+                    folds.count(), d.rmse_baseline_heldout, d.rmse_extended_heldout, d.rmse_baseline_heldout / d.rmse_extended_heldout,
+                    pooled_rmse(diag_base, all), pooled_rmse(diag_ext, all), pooled_rmse(diag_base, all) / pooled_rmse(diag_ext, all));
   nlohmann::json protos = nlohmann::json::object();
   for (auto& r : results) {
-    std::printf("\nprotocol %s (%d renders, %.0f s; %dx%d px x %d spp each)\n", r.name.c_str(), r.renders, r.seconds,
-                args.render.resolution, args.render.resolution, args.render.spp);
-    std::printf("%-10s %5s | %-26s %7s | %-26s %7s | %-26s\n", report_by.c_str(), "items", "rendered: baseline -> ext", "gain",
-                "model: baseline -> ext", "gain", "diagnosis as reported");
+    std::fprintf(txt, "\nprotocol %s (%d renders, %.0f s; %dx%d px x %d spp each)\n", r.name.c_str(), r.renders, r.seconds,
+                      args.render.resolution, args.render.resolution, args.render.spp);
+    std::fprintf(txt, "%-10s %5s | %-26s %7s | %-26s %7s | %-26s\n", report_by.c_str(), "items", "rendered: baseline -> ext", "gain",
+                      "model: baseline -> ext", "gain", "diagnosis as reported");
     nlohmann::json rows = nlohmann::json::array();
     for (auto& w : rows_by(p, r, report_by)) {
       std::vector<int> items = w.group == "all" ? all : groups[w.group];
       double rb = pooled_rmse(d.baseline_cv.heldout, items), re = pooled_rmse(d.final_cv.heldout, items);
-      std::printf("%-10s %5d | %.4f -> %.4f %12s %6.2fx | %.4f -> %.4f %12s %6.2fx | %.4f -> %.4f (%.2fx)\n", w.group.c_str(), w.items,
-                  w.base, w.ext, "", w.base / w.ext, w.base_model, w.ext_model, "", w.base_model / w.ext_model, rb, re, rb / re);
+      std::fprintf(txt, "%-10s %5d | %.4f -> %.4f %12s %6.2fx | %.4f -> %.4f %12s %6.2fx | %.4f -> %.4f (%.2fx)\n", w.group.c_str(), w.items,
+                        w.base, w.ext, "", w.base / w.ext, w.base_model, w.ext_model, "", w.base_model / w.ext_model, rb, re, rb / re);
       rows.push_back({{report_by, w.group}, {"items", w.items},
                       {"rendered_baseline", w.base}, {"rendered_extended", w.ext}, {"rendered_gain", w.base / w.ext},
                       {"model_baseline", w.base_model}, {"model_extended", w.ext_model}, {"model_gain", w.base_model / w.ext_model},
@@ -340,7 +342,7 @@ int run(int argc, char** argv) {
     nlohmann::json by_light = nlohmann::json::array();
     for (auto& w : rows_by(p, r, "light_nm")) {
       if (w.group == "all") continue;
-      std::printf("  light %s nm: %2d items, rendered %.4f -> %.4f (%.2fx)\n", w.group.c_str(), w.items, w.base, w.ext, w.base / w.ext);
+      std::fprintf(txt, "  light %s nm: %2d items, rendered %.4f -> %.4f (%.2fx)\n", w.group.c_str(), w.items, w.base, w.ext, w.base / w.ext);
       by_light.push_back({{"light_nm", w.group}, {"items", w.items}, {"rendered_baseline", w.base}, {"rendered_extended", w.ext}});
     }
     // Rendered against the model's prediction with the same concentrations: the renderer's share.
@@ -350,7 +352,7 @@ int run(int argc, char** argv) {
       dd += (r.ext[i].predicted - r.ext_model[i].predicted).squaredNorm() + (r.base[i].predicted - r.base_model[i].predicted).squaredNorm();
       nn += 2 * r.ext[i].predicted.size();
     }
-    std::printf("rendered vs model prediction (same concentrations): RMS difference %.4f\n", std::sqrt(dd / nn));
+    std::fprintf(txt, "rendered vs model prediction (same concentrations): RMS difference %.4f\n", std::sqrt(dd / nn));
     protos[r.name] = {{"by_" + report_by, rows}, {"by_light_nm", by_light}, {"renders", r.renders}, {"seconds", r.seconds},
                       {"rms_rendered_minus_model", std::sqrt(dd / nn)}};
     // Per-item table.
@@ -444,7 +446,7 @@ int main(int argc, char** argv) {
   try {
     return run(argc, argv);
   } catch (const InputError& e) {
-    std::fprintf(stderr, "error: %s\n", e.what());
+    std::fprintf(stderr, "error: %s\n", e.describe().c_str());
     return 2;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "internal error: %s\n", e.what());
