@@ -14,15 +14,24 @@
 //                                             a Beer-Lambert hemoglobin layer over the base: the
 //                                             light leaving is attenuated by 10^-OD(em), the light
 //                                             entering by 10^-f OD(ex) (f = excitation_path_factor)
+//   "emission_broadening_fwhm_nm": 52          every fluorophore's emission blurred by a Gaussian of
+//                                             this FWHM (tissue bands are broader than the library's
+//                                             solution spectra); photons the blur moves to or below
+//                                             the excitation wavelength are dropped, as in the
+//                                             diagnosis' model
 //   "diagnosis": "report.json"                the tissue causes an `oralfluor diagnose --json` report
 //                                             accepted: blood absorption (as "blood"), emission
-//                                             broadening (applied to every fluorophore's EEM) and
+//                                             broadening (as "emission_broadening_fwhm_nm") and
 //                                             extra fluorophores (concentration set so that their
-//                                             share of the fluorescence is the reported one)
+//                                             share of the fluorescence is the reported one, unless
+//                                             "concentrations" names the fluorophore: a value given
+//                                             there wins). "blood" and "emission_broadening_fwhm_nm"
+//                                             given as well override the report's.
 #include <filesystem>
 
 #include <algorithm>
 #include <optional>
+#include <set>
 
 #include "materials/material_parser.h"
 #include "renderer/diagnose/material_from_diagnosis.h"
@@ -53,7 +62,7 @@ BloodAbsorber parse_blood(const JsonNode& b) {
 // Sets the concentration of each extra fluorophore named by a diagnosis so that its share of the
 // fluorescence photons (470-750 nm, the diagnosis' fit range) under a 405 nm LED (15 nm FWHM) is
 // the share the diagnosis measured: c_x S_x / (S_rest + c_x S_x) = f.
-void set_extra_shares(Material& m, const TissueCorrections& corr, MaterialContext& ctx) {
+void set_extra_shares(Material& m, const TissueCorrections& corr, MaterialContext& ctx, const std::set<std::string>& given) {
   const WavelengthGrid& g = ctx.grid;
   auto led = tabulate(gaussian_spectrum(405, 15), g);
   auto signal = [&](const FluorophoreLayer& f) {
@@ -66,6 +75,7 @@ void set_extra_shares(Material& m, const TissueCorrections& corr, MaterialContex
   double rest = 0;
   for (auto& f : m.fluorophores) rest += f.concentration * signal(f);
   for (auto& x : corr.extra_fluorophores) {
+    if (given.count(x.name)) continue;  // the user's concentration wins
     for (auto& f : m.fluorophores) {
       if (f.name != x.name || f.concentration != 0) continue;
       double sx = signal(f);
@@ -79,7 +89,7 @@ void set_extra_shares(Material& m, const TissueCorrections& corr, MaterialContex
 
 Material parse_tissue(const JsonNode& n, MaterialContext& ctx, const std::string& forced_preset) {
   n.check_keys({"type", "preset", "reflectance", "concentrations", "fluorescence_scale", "textures", "extra_fluorophores",
-                "coating", "blood", "diagnosis"});
+                "coating", "blood", "emission_broadening_fwhm_nm", "diagnosis"});
   std::string preset = forced_preset.empty() ? n.at("preset").string() : n.string_or("preset", forced_preset);
   auto file = asset_root() / "tissues" / (preset + ".json");
   std::error_code ec;
@@ -109,8 +119,10 @@ Material parse_tissue(const JsonNode& n, MaterialContext& ctx, const std::string
       if (l.value("name", "") == name) return &l;
     return nullptr;
   };
+  std::set<std::string> given;  // fluorophores the user set
   if (auto cs = n.find("concentrations")) {
     for (const auto& k : cs->keys()) {
+      given.insert(k);
       double c = cs->at(k).number(0.0, 1.0);
       if (auto* l = find_layer(k)) (*l)["concentration"] = c;
       else base["fluorophores"].push_back({{"name", k}, {"concentration", c}});
@@ -149,16 +161,6 @@ Material parse_tissue(const JsonNode& n, MaterialContext& ctx, const std::string
       base["fluorophores"].push_back(layer);
     }
   }
-  if (auto c = n.find("coating")) {
-    if (c->raw().is_boolean() && !c->boolean()) {
-      nlohmann::json b = base;
-      mat = b;
-    } else {
-      c->check_keys({"ior", "roughness"});
-      mat["ior"] = c->number_or("ior", mat.value("ior", 1.33), 1.0, 3.0);
-      mat["roughness"] = c->number_or("roughness", mat.value("roughness", 0.2), 0.001, 1.0);
-    }
-  }
   // A diagnosis report: its extra fluorophores join the layers before parsing (concentration fixed
   // below, once the EEMs are on the grid).
   TissueCorrections corr;
@@ -170,7 +172,22 @@ Material parse_tissue(const JsonNode& n, MaterialContext& ctx, const std::string
     } catch (const InputError& e) {
       throw InputError(report_file.string(), e.field(), e.what());
     }
-    for (auto& x : corr.extra_fluorophores) base["fluorophores"].push_back({{"name", x.name}, {"concentration", 0.0}});
+    // A fluorophore the preset or the user already has keeps its layer; its concentration is set
+    // from the reported share below unless "concentrations" names it.
+    for (auto& x : corr.extra_fluorophores)
+      if (!find_layer(x.name)) base["fluorophores"].push_back({{"name", x.name}, {"concentration", 0.0}});
+  }
+  if (auto w = n.find("emission_broadening_fwhm_nm")) corr.emission_broadening_fwhm_nm = w->number(0.0, 500.0);
+  // The coating last: dropping it replaces `mat` by the base, which `base` refers into.
+  if (auto c = n.find("coating")) {
+    if (c->raw().is_boolean() && !c->boolean()) {
+      nlohmann::json b = base;
+      mat = std::move(b);
+    } else {
+      c->check_keys({"ior", "roughness"});
+      mat["ior"] = c->number_or("ior", mat.value("ior", 1.33), 1.0, 3.0);
+      mat["roughness"] = c->number_or("roughness", mat.value("roughness", 0.2), 0.001, 1.0);
+    }
   }
   // Parse the merged material; errors in it name the preset file and the merged pointer.
   JsonFile merged = JsonFile::from(mat, file.string() + " (preset as modified by " + n.file() + " " + n.path() + ")");
@@ -187,7 +204,7 @@ Material parse_tissue(const JsonNode& n, MaterialContext& ctx, const std::string
       f.eem = static_cast<int>(ctx.eems->size()) - 1;
     }
   }
-  if (!corr.extra_fluorophores.empty()) set_extra_shares(out, corr, ctx);
+  if (!corr.extra_fluorophores.empty()) set_extra_shares(out, corr, ctx, given);
 
   std::optional<BloodAbsorber> blood = corr.blood;
   if (auto b = n.find("blood")) blood = parse_blood(*b);

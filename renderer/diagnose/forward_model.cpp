@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <stdexcept>
 
 #include "renderer/core/error.h"
 #include "renderer/diagnose/nnls.h"
@@ -227,21 +228,64 @@ SpectraProblem::Effects SpectraProblem::decode(const ModelState& s) const {
   return fx;
 }
 
+void SpectraProblem::longpass(const Effects& fx, std::vector<double>& tlp, std::vector<double>& block) const {
+  const int N = grid_.size();
+  tlp.assign(N, 1.0);
+  block.assign(N, 0.0);
+  if (!model_.emission_filter) return;
+  OpticalFilter f = *model_.emission_filter;
+  f.edge_nm += fx.edge;
+  f.edge2_nm += f.edge2_nm > 0 ? fx.edge : 0;
+  tlp = tabulate(f.at_angle(0), grid_);
+  double tmin = f.kind == OpticalFilter::Kind::kMeasured ? 0.0 : std::pow(10.0, -f.od);
+  double span = std::max(f.peak - tmin, 1e-12);
+  for (int i = 0; i < N; ++i) block[i] = std::clamp((f.peak - tlp[i]) / span, 0.0, 1.0);
+}
+
+void SpectraProblem::add_leak_columns(int light, const Effects& fx, const std::vector<double>& tlp,
+                                      const std::vector<double>& block, std::vector<std::vector<double>>& cols,
+                                      std::vector<std::string>* names) const {
+  const LightBasis& L = lights_[light];
+  const int N = grid_.size();
+  if (model_.leak != LeakSource::kNone) {
+    std::vector<double> col(N);
+    if (model_.leak == LeakSource::kMeasured && !L.leak.empty())
+      col = L.leak;
+    else
+      for (int i = 0; i < N; ++i) col[i] = L.e_tail[i] * tlp[i];
+    cols.push_back(std::move(col));
+    if (names) names->push_back("leak");
+  }
+  if (fx.lp_leak) {
+    std::vector<double> col(N);
+    for (int i = 0; i < N; ++i) col[i] = L.e_tail[i] * block[i];
+    cols.push_back(std::move(col));
+    if (names) names->push_back("longpass_leak");
+  }
+}
+
+void SpectraProblem::apply_instrument(std::vector<std::vector<double>>& cols, const Effects& fx) const {
+  // The instrument, in the order light meets it: slit blur, wavelength scale, stray light.
+  double fwhm = std::sqrt(model_.instrument_fwhm_nm * model_.instrument_fwhm_nm + fx.fwhm * fx.fwhm);
+  for (auto& c : cols) {
+    if (fwhm > 0) gaussian_blur(c, grid_.step_nm, fwhm);
+    if (fx.shift != 0) shift_samples(c, grid_.step_nm, fx.shift);
+    if (fx.stray > 0 && !fit_grid_.empty()) {
+      double m = 0;
+      for (int i : fit_grid_) m += c[i];
+      m = fx.stray * m / fit_grid_.size();
+      for (double& v : c) v += m;
+    }
+  }
+}
+
 std::vector<std::vector<double>> SpectraProblem::grid_columns(int light, const Effects& fx,
                                                               std::vector<std::string>* names) const {
   const LightBasis& L = lights_[light];
   const int N = grid_.size();
-  std::vector<double> tb(N, 1.0), tlp(N, 1.0), block(N, 0.0);
+  std::vector<double> tb(N, 1.0), tlp, block;
   if (fx.blood) tb = blood_transmittance(fx.absorber, grid_);
-  if (model_.emission_filter) {
-    OpticalFilter f = *model_.emission_filter;
-    f.edge_nm += fx.edge;
-    f.edge2_nm += f.edge2_nm > 0 ? fx.edge : 0;
-    tlp = tabulate(f.at_angle(0), grid_);
-    double tmin = f.kind == OpticalFilter::Kind::kMeasured ? 0.0 : std::pow(10.0, -f.od);
-    double span = std::max(f.peak - tmin, 1e-12);
-    for (int i = 0; i < N; ++i) block[i] = std::clamp((f.peak - tlp[i]) / span, 0.0, 1.0);
-  }
+  longpass(fx, tlp, block);
   std::vector<std::vector<double>> cols;
   std::vector<int> which;
   for (size_t k = 0; k < model_.fluorophores.size(); ++k) which.push_back(static_cast<int>(k));
@@ -266,34 +310,26 @@ std::vector<std::vector<double>> SpectraProblem::grid_columns(int light, const E
     cols.push_back(std::move(col));
     if (names) names->push_back(eem_names_[k]);
   }
-  if (model_.leak != LeakSource::kNone) {
-    std::vector<double> col(N);
-    if (model_.leak == LeakSource::kMeasured && !L.leak.empty())
-      col = L.leak;
-    else
-      for (int i = 0; i < N; ++i) col[i] = L.e_tail[i] * tlp[i];
-    cols.push_back(std::move(col));
-    if (names) names->push_back("leak");
-  }
-  if (fx.lp_leak) {
-    std::vector<double> col(N);
-    for (int i = 0; i < N; ++i) col[i] = L.e_tail[i] * block[i];
-    cols.push_back(std::move(col));
-    if (names) names->push_back("longpass_leak");
-  }
-  // The instrument, in the order light meets it: slit blur, wavelength scale, stray light.
-  double fwhm = std::sqrt(model_.instrument_fwhm_nm * model_.instrument_fwhm_nm + fx.fwhm * fx.fwhm);
-  for (auto& c : cols) {
-    if (fwhm > 0) gaussian_blur(c, grid_.step_nm, fwhm);
-    if (fx.shift != 0) shift_samples(c, grid_.step_nm, fx.shift);
-    if (fx.stray > 0 && !fit_grid_.empty()) {
-      double m = 0;
-      for (int i : fit_grid_) m += c[i];
-      m = fx.stray * m / fit_grid_.size();
-      for (double& v : c) v += m;
-    }
-  }
+  add_leak_columns(light, fx, tlp, block, cols, names);
+  apply_instrument(cols, fx);
   return cols;
+}
+
+SpectraProblem::Design SpectraProblem::instrument_design(const ModelState& state, int item,
+                                                         const std::vector<double>& radiance) const {
+  if (static_cast<int>(radiance.size()) != grid_.size())
+    throw std::invalid_argument("instrument_design: radiance is not on the model grid");
+  Effects fx = decode(state);
+  std::vector<double> tlp, block;
+  longpass(fx, tlp, block);
+  std::vector<std::vector<double>> cols(1, radiance);
+  for (int i = 0; i < grid_.size(); ++i) cols[0][i] *= tlp[i];
+  Design d;
+  d.names.push_back("radiance");
+  add_leak_columns(items_[item].light, fx, tlp, block, cols, &d.names);
+  apply_instrument(cols, fx);
+  d.A = sample(cols, items_[item]);
+  return d;
 }
 
 Eigen::MatrixXd SpectraProblem::sample(const std::vector<std::vector<double>>& cols, const Item& it) const {

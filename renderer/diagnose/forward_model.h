@@ -77,6 +77,17 @@ class SpectraProblem : public DiagnoseProblem {
     std::vector<std::string> names;
   };
   Design design(const ModelState& state, int item) const;
+  // The instrument part of the model applied to a tissue radiance on the grid (W sr^-1 m^-2 nm^-1,
+  // e.g. a rendered patch under item's light; closing the loop, render_loop.h): the emission
+  // long-pass (with the state's edge shift), the item's leak columns as in the baseline (and
+  // longpass_leak when active), then the state's instrument causes (bandwidth, wavelength shift,
+  // stray light), sampled at the item's fit wavelengths. Column 0 ("radiance") is the radiance;
+  // the state's tissue causes (blood, broadening, extra fluorophores) are ignored: the radiance
+  // carries them.
+  Design instrument_design(const ModelState& state, int item, const std::vector<double>& radiance) const;
+  // Excitation radiance of light `light` on the grid as the model uses it: after the excitation
+  // filter, with the instrument floor beyond the LED band removed.
+  const std::vector<double>& excitation(int light) const { return lights_[light].e_tail; }
   double mean_radiance(int i) const { return items_[i].mean; }
   const SpectraSet& data() const { return data_; }
   const SpectraModel& model() const { return model_; }
@@ -101,6 +112,10 @@ class SpectraProblem : public DiagnoseProblem {
   struct Effects;
   Effects decode(const ModelState& s) const;
   std::vector<std::vector<double>> grid_columns(int light, const Effects& fx, std::vector<std::string>* names) const;
+  void longpass(const Effects& fx, std::vector<double>& tlp, std::vector<double>& block) const;
+  void add_leak_columns(int light, const Effects& fx, const std::vector<double>& tlp, const std::vector<double>& block,
+                        std::vector<std::vector<double>>& cols, std::vector<std::string>* names) const;
+  void apply_instrument(std::vector<std::vector<double>>& cols, const Effects& fx) const;
   Eigen::MatrixXd sample(const std::vector<std::vector<double>>& cols, const Item& it) const;
 
   SpectraSet data_;

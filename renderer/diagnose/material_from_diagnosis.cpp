@@ -64,13 +64,18 @@ GridEem apply_tissue_corrections(const GridEem& eem, const TissueCorrections& c)
   if (c.emission_broadening_fwhm_nm > 0) {
     std::vector<double> col(n);
     for (int ex = 0; ex < n; ++ex) {
-      double before = 0, after = 0;
-      for (int em = 0; em < n; ++em) { col[em] = eem.at(em, ex); before += col[em]; }
+      // Blurred as the diagnosis blurs an emission column: in energy units (photons x hc/em; the
+      // constant drops out), then back to photons. What lands at or below the excitation
+      // wavelength is dropped (Stokes), not renormalised, so that above the excitation the EEM is
+      // exactly the fitted model and the photon albedo can only decrease.
+      double before = 0;
+      for (int em = 0; em < n; ++em) {
+        col[em] = eem.at(em, ex) / eem.grid.wavelength(em);
+        before += col[em];
+      }
       if (before <= 0) continue;
       gaussian_blur(col, eem.grid.step_nm, c.emission_broadening_fwhm_nm);
-      for (int em = 0; em <= ex; ++em) col[em] = 0;  // Stokes
-      for (int em = 0; em < n; ++em) after += col[em];
-      for (int em = 0; em < n; ++em) out.at(em, ex) = after > 0 ? col[em] * before / after : 0;
+      for (int em = 0; em < n; ++em) out.at(em, ex) = em <= ex ? 0.0 : col[em] * eem.grid.wavelength(em);
     }
   }
   if (c.blood) out = apply_blood_to_eem(out, *c.blood);

@@ -5,11 +5,11 @@
 // long-pass leak/edge) and camera causes are returned by name so the caller can route them to
 // the instrument or camera model instead.
 //
-// Intended use by a tissue material (materials/ is the lead's):
+// Used by the tissue material's "diagnosis" option (materials/tissue.cpp):
 //   TissueCorrections c = tissue_corrections_from_report(json_of("oralfluor diagnose --json"));
 //   GridEem eem_k = apply_tissue_corrections(load_fluorophore(name_k, grid), c);  // per fluorophore
-//   reflectance    = apply_blood_to_reflectance(reflectance, grid, *c.blood);     // if c.blood
-//   or store blood_optical_density_on_grid(*c.blood, grid) as the material's blood OD spectrum.
+//   and the blood layer as the material's layer_in / layer_out transmittances.
+// render_loop.h renders such a material and compares it with the measured spectra.
 #pragma once
 #include <optional>
 #include <string>
@@ -45,7 +45,9 @@ TissueCorrections tissue_corrections_from_report(const nlohmann::json& report);
 std::vector<double> blood_optical_density_on_grid(const BloodAbsorber& b, const WavelengthGrid& grid);
 
 // An EEM with the tissue corrections applied: emission broadened by a Gaussian of the given FWHM
-// (area kept per excitation column, Stokes mask re-applied), then the blood layer
+// (each excitation column blurred as the diagnosis blurs an emission column, in energy units;
+// what the blur moves to or below the excitation wavelength is dropped, so the EEM above the
+// diagonal is the fitted model's and the photon albedo can only decrease), then the blood layer
 // (apply_blood_to_eem).
 GridEem apply_tissue_corrections(const GridEem& eem, const TissueCorrections& c);
 
