@@ -182,6 +182,7 @@ PointOutcome evaluate_point(const SweepSpec& spec, const DesignPoint& pt, PointR
   if (!integ.is_object()) integ = nlohmann::json::object();
   if (spec.render.noise_target) integ["noise_target"] = *spec.render.noise_target;
   if (spec.render.max_depth) integ["max_depth"] = *spec.render.max_depth;
+  if (spec.render.output_bands) integ["output_bands"] = *spec.render.output_bands;
   SceneOverrides ov;
   ov.spp = spec.render.spp;
   ov.seed = spec.render.seed;
@@ -225,6 +226,13 @@ PointOutcome evaluate_point(const SweepSpec& spec, const DesignPoint& pt, PointR
     for (int i = 0; i < grid.size(); ++i) led[i] += l.spectral_intensity[i];
   auto lo = img.band_lo(), hi = img.band_hi();
   std::vector<bool> in_band = led_band_mask(lo, hi, grid, led, spec.metrics.led_band_threshold);
+  // Light outside the film's bands is not in the image: the camera cannot see it, leaked or not.
+  double led_total = 0, led_outside = 0;
+  for (int i = 0; i < grid.size(); ++i) {
+    led_total += led[i];
+    if (grid.wavelength(i) < lo.front() || grid.wavelength(i) > hi.back()) led_outside += led[i];
+  }
+  double outside_fraction = led_total > 0 ? led_outside / led_total : 0.0;
   SignalSplit split = split_signal(img, in_band, cam, run.geometry);
   nlohmann::json led_bands = nlohmann::json::array();
   for (size_t b = 0; b < in_band.size(); ++b)
@@ -235,6 +243,12 @@ PointOutcome evaluate_point(const SweepSpec& spec, const DesignPoint& pt, PointR
 
   // ROI masks from what each pixel sees.
   std::vector<std::string> warnings = run.warnings;
+  if (outside_fraction > 0.01) {
+    char b[200];
+    std::snprintf(b, sizeof b, "%.0f %% of the LED power lies outside the output bands (%.1f-%.1f nm): excitation leaking "
+                  "there is not simulated; set render.output_bands to cover the LED", 100 * outside_fraction, lo.front(), hi.back());
+    warnings.push_back(b);
+  }
   const auto& mat = img.aovs.at("aov.material");
   const auto& au = img.aovs.at("aov.u");
   const auto& av = img.aovs.at("aov.v");
@@ -365,7 +379,9 @@ PointOutcome evaluate_point(const SweepSpec& spec, const DesignPoint& pt, PointR
                    {"noise_target", scene.integrator.noise_target},
                    {"relative_noise", rr.stats.relative_noise},
                    {"seconds", rr.stats.seconds},
-                   {"lights", scene.lights.size()}};
+                   {"lights", scene.lights.size()},
+                   {"bands_nm", {lo.front(), hi.back()}},
+                   {"led_power_outside_bands", outside_fraction}};
   res["camera"] = {{"name", cam.name}, {"saturated_fraction", run.summary["saturated_fraction"]}};
   res["led_band_nm"] = led_bands;
   res["scatter"] = scatter;

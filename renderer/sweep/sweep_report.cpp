@@ -134,7 +134,7 @@ ReportFiles write_sweep_report(const SweepSpec& spec, const std::vector<DesignPo
   std::ostringstream h;
   int plot_id = 0;
   auto add_plot = [&](const VectorPlot& p) {
-    h << inline_svg(p, "p" + std::to_string(plot_id) + "_");
+    h << inline_svg(p, std::string("p").append(std::to_string(plot_id)).append("_"));
     ++plot_id;
   };
   h << "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>oralfluor sweep " << html_escape(spec.name)

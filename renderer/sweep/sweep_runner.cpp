@@ -154,8 +154,9 @@ SweepRunSummary run_sweep(const SweepSpec& spec, const SweepRunOptions& opt) {
       if (rank == 0)
         while (mpi.receive(&msg, false)) handle(msg);
       const DesignPoint& p = w.design[mine[k]];
-      log_line(rank, ranks, "[" + std::to_string(k + 1) + "/" + std::to_string(mine.size()) + "] point " +
-                                std::to_string(p.index) + ": " + point_label(spec, p));
+      char head[96];
+      std::snprintf(head, sizeof head, "[%zu/%zu] point %d: ", k + 1, mine.size(), p.index);
+      log_line(rank, ranks, head + point_label(spec, p));
       PointOutcome o = evaluate_point(spec, p, ctx);
       if (o.interrupted) {
         sum.interrupted = true;

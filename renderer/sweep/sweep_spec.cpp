@@ -10,12 +10,6 @@
 namespace ofl {
 namespace {
 
-std::filesystem::path resolve(const JsonNode& n) {
-  std::filesystem::path p = n.string();
-  if (p.is_relative()) p = std::filesystem::path(n.file()).parent_path() / p;
-  return p;
-}
-
 // "/a/b" with every token present; the pointer is only checked for syntax here (the documents it
 // points into are checked when the design is validated).
 std::string pointer_string(const JsonNode& n) {
@@ -193,13 +187,19 @@ SweepSpec parse_sweep_spec(const JsonFile& f) {
   s.camera = root.at("camera").existing_file();
 
   if (auto r = root.find("render")) {
-    r->check_keys({"width", "height", "spp", "max_depth", "seed", "noise_target"});
+    r->check_keys({"width", "height", "spp", "max_depth", "seed", "noise_target", "output_bands"});
     if (auto v = r->find("width")) s.render.width = v->integer(2, 16384);
     if (auto v = r->find("height")) s.render.height = v->integer(2, 16384);
     if (auto v = r->find("spp")) s.render.spp = v->integer(1, 1 << 24);
     if (auto v = r->find("max_depth")) s.render.max_depth = v->integer(0, 1000);
     if (auto v = r->find("seed")) s.render.seed = static_cast<uint64_t>(v->integer(0));
     if (auto v = r->find("noise_target")) s.render.noise_target = v->number(0.0, 10.0);
+    if (auto v = r->find("output_bands")) {
+      v->check_keys({"min_nm", "max_nm", "step_nm"});
+      double lo = v->at("min_nm").positive(), hi = v->at("max_nm").positive(), st = v->at("step_nm").positive();
+      if (!(hi > lo)) v->at("max_nm").fail("must be greater than min_nm");
+      s.render.output_bands = nlohmann::json{{"min_nm", lo}, {"max_nm", hi}, {"step_nm", st}};
+    }
   }
   if (auto c = root.find("camera_run")) {
     c->check_keys({"noise", "seed"});
@@ -317,7 +317,7 @@ nlohmann::json SweepSpec::to_json() const {
           {"camera", camera.string()},
           {"render", {{"width", opt(render.width)}, {"height", opt(render.height)}, {"spp", opt(render.spp)},
                       {"max_depth", opt(render.max_depth)}, {"seed", opt(render.seed)},
-                      {"noise_target", opt(render.noise_target)}}},
+                      {"noise_target", opt(render.noise_target)}, {"output_bands", opt(render.output_bands)}}},
           {"camera_run", {{"noise", opt(camera_run.noise)}, {"seed", opt(camera_run.seed)}}},
           {"design", {{"type", design.type == DesignSpec::Type::kGrid ? "grid" : "latin_hypercube"},
                       {"points", design.points}, {"seed", design.seed}}},

@@ -69,6 +69,9 @@ struct RenderSettings {
   std::optional<int> width, height, spp, max_depth;
   std::optional<uint64_t> seed;
   std::optional<double> noise_target;  // > 0: stop at this relative noise; spp is then the maximum
+  // Film bands {"min_nm", "max_nm", "step_nm"}: must reach down into the LED's band for the
+  // leaked excitation to be simulated at all (scenes often start their bands at 400 nm).
+  std::optional<nlohmann::json> output_bands;
 };
 
 struct CameraSettings {

@@ -34,7 +34,9 @@ void fsync_path(const std::filesystem::path& p, int flags) {
 
 void write_file_atomic(const std::filesystem::path& file, const std::string& contents) {
   auto dir = file.parent_path().empty() ? std::filesystem::path(".") : file.parent_path();
-  auto tmp = dir / ("." + file.filename().string() + "." + hostname() + "." + std::to_string(::getpid()) + ".tmp");
+  std::string name(1, '.');
+  name.append(file.filename().string()).append(1, '.').append(hostname()).append(1, '.').append(std::to_string(::getpid())).append(".tmp");
+  auto tmp = dir / name;
   int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
   if (fd < 0) throw InputError(tmp.string(), "", std::string("cannot write: ") + std::strerror(errno));
   const char* p = contents.data();
@@ -86,7 +88,7 @@ void PointStore::save(const std::string& key, const nlohmann::ordered_json& resu
 }
 
 int PointStore::remove_stale_temporaries() const {
-  const std::string host = "." + hostname() + ".";
+  const std::string host = std::string(1, '.').append(hostname()).append(1, '.');
   int removed = 0;
   std::error_code ec;
   for (auto& e : std::filesystem::directory_iterator(dir_, ec)) {
