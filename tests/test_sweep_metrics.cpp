@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <numeric>
+#include <random>
 
 #include "renderer/analysis/chromaticity.h"
 #include "renderer/camera/camera_pipeline.h"
@@ -251,4 +252,57 @@ TEST(SweepMetrics, LesionContrastDistanceAndMahalanobis) {
   LesionContrast diag = lesion_contrast(cluster(0.3 + d, 0.4 + d), cluster(0.3, 0.4));
   EXPECT_NEAR(diag.distance, d * std::sqrt(2.0), 1e-15);
   EXPECT_NEAR(diag.mahalanobis, d * std::sqrt(2.0) / std::sqrt(2 * sgm * sgm / 3), 1e-9);
+}
+
+TEST(SweepMetrics, TwoRendersSeparateMonteCarloNoiseFromTheSpreadOfTheLight) {
+  // A true chromaticity gradient (r rises across the image) seen through two independent noisy
+  // "renders"; the metrics use their mean and recover both the noise and the true spread.
+  const int w = 200, h = 200;
+  std::vector<float> truth(size_t(w) * h * 3), a(truth.size()), b(truth.size()), mean(truth.size());
+  std::mt19937 gen(11);
+  std::normal_distribution<double> n01(0.0, 1.0);
+  const double sigma = 0.05;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      size_t p = size_t(y) * w + x;
+      double t[3] = {100.0 + 60.0 * x / w, 200.0, 100.0};
+      for (int c = 0; c < 3; ++c) {
+        truth[p * 3 + c] = float(t[c]);
+        a[p * 3 + c] = float(t[c] * (1 + sigma * n01(gen)));
+        b[p * 3 + c] = float(t[c] * (1 + sigma * n01(gen)));
+        mean[p * 3 + c] = 0.5f * (a[p * 3 + c] + b[p * 3 + c]);
+      }
+    }
+  std::vector<float> mosaic(size_t(w) * h), irr(size_t(w) * h, 1.0f);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) mosaic[size_t(y) * w + x] = mean[(size_t(y) * w + x) * 3 + cfa_channel(CfaPattern::kRGGB, x, y)];
+  MetricImages im;
+  im.width = w;
+  im.height = h;
+  im.expected = &mosaic;
+  im.channel_e = &mean;
+  im.channel_e_a = &a;
+  im.channel_e_b = &b;
+  im.irradiance = &irr;
+  SensorDescription s;
+  RoiCells cells;
+  auto m = roi_metrics(im, std::vector<uint8_t>(size_t(w) * h, 1), s, &cells);
+  ASSERT_EQ(cells.cells.size(), size_t(w / 2) * (h / 2));
+  // Direct answers from the truth: the spread of the true r over the cells, and the error of the
+  // analysed (mean) image's r.
+  std::vector<double> r_true, r_err, g_true;
+  for (auto& c : cells.cells) {
+    double t[3] = {0, 0, 0};
+    for (int dy = 0; dy < 2; ++dy)
+      for (int dx = 0; dx < 2; ++dx)
+        for (int k = 0; k < 3; ++k) t[k] += truth[((size_t(c.y) + dy) * w + c.x + dx) * 3 + k] / 4.0;
+    double rt = t[0] / (t[0] + t[1] + t[2]);
+    r_true.push_back(rt);
+    g_true.push_back(t[1] / (t[0] + t[1] + t[2]));
+    r_err.push_back(c.rg_nf[0] - rt);
+  }
+  EXPECT_NEAR(m["r_std_mc"].get<double>() / std_of(r_err), 1.0, 0.05);
+  EXPECT_NEAR(m["r_std_light"].get<double>() / std_of(r_true), 1.0, 0.05);
+  EXPECT_GT(m["r_std_nf"].get<double>(), m["r_std_light"].get<double>());
+  EXPECT_NEAR(m["g_std_light"].get<double>() / std_of(g_true), 1.0, 0.05);
 }

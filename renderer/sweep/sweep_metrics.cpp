@@ -157,7 +157,7 @@ RoiCells roi_cells(const MetricImages& im, const std::vector<uint8_t>& mask) {
       size_t i00 = size_t(y) * w + x, i10 = i00 + 1, i01 = i00 + w, i11 = i01 + 1;
       if (!(mask[i00] && mask[i10] && mask[i01] && mask[i11])) continue;
       ++out.complete;
-      double raw[3] = {0, 0, 0}, e[3] = {0, 0, 0}, irr = 0;
+      double raw[3] = {0, 0, 0}, e[3] = {0, 0, 0}, ea[3] = {0, 0, 0}, eb[3] = {0, 0, 0}, irr = 0;
       int count[3] = {0, 0, 0};
       bool sat = false;
       for (size_t i : {i00, i10, i01, i11}) {
@@ -167,7 +167,17 @@ RoiCells roi_cells(const MetricImages& im, const std::vector<uint8_t>& mask) {
           sat = sat || (*im.raw)[i] >= im.white;
           raw[c] += double((*im.raw)[i]) - im.black;
         }
-        e[c] += (*im.expected)[i];
+        if (im.channel_e) {
+          for (int k = 0; k < 3; ++k) {
+            e[k] += (*im.channel_e)[i * 3 + k] / 4.0;
+            if (im.channel_e_a && im.channel_e_b) {
+              ea[k] += (*im.channel_e_a)[i * 3 + k] / 4.0;
+              eb[k] += (*im.channel_e_b)[i * 3 + k] / 4.0;
+            }
+          }
+        } else {
+          e[c] += (*im.expected)[i];
+        }
         irr += im.irradiance ? (*im.irradiance)[i] : kNaN;
         ++count[c];
       }
@@ -177,7 +187,7 @@ RoiCells roi_cells(const MetricImages& im, const std::vector<uint8_t>& mask) {
       }
       for (int c = 0; c < 3; ++c) {
         raw[c] /= count[c];
-        e[c] /= count[c];
+        if (!im.channel_e) e[c] /= count[c];
       }
       CellSample s;
       s.x = x;
@@ -185,6 +195,9 @@ RoiCells roi_cells(const MetricImages& im, const std::vector<uint8_t>& mask) {
       s.rg = im.raw ? rg_chromaticity(raw[0], raw[1], raw[2]) : rg_chromaticity(e[0], e[1], e[2]);
       s.rg_nf = rg_chromaticity(e[0], e[1], e[2]);
       if (std::isnan(s.rg[0]) || std::isnan(s.rg_nf[0])) continue;
+      bool halves = im.channel_e && im.channel_e_a && im.channel_e_b;
+      s.rg_a = halves ? rg_chromaticity(ea[0], ea[1], ea[2]) : std::array<double, 2>{kNaN, kNaN};
+      s.rg_b = halves ? rg_chromaticity(eb[0], eb[1], eb[2]) : std::array<double, 2>{kNaN, kNaN};
       s.intensity = e[0] + e[1] + e[2];
       s.irradiance = irr / 4.0;
       out.cells.push_back(s);
@@ -196,7 +209,8 @@ const std::vector<std::string>& roi_metric_names() {
   static const std::vector<std::string> n = {
       "pixels",       "cells",        "saturated_fraction", "irr_mean",   "irr_min_max",     "irr_p5_p95",
       "irr_cv",       "int_cv",       "r_mean",             "g_mean",     "r_std",           "g_std",
-      "ellipse_area", "r_std_nf",     "g_std_nf",           "ellipse_area_nf", "corr_int_r", "corr_int_g",
+      "ellipse_area", "r_std_nf",     "g_std_nf",           "ellipse_area_nf", "r_std_mc",   "g_std_mc",
+      "r_std_light",  "g_std_light",  "ellipse_area_light", "corr_int_r", "corr_int_g",
       "corr_irr_r",   "corr_irr_g",   "slope_r_irr",        "slope_g_irr", "share_fluorescence", "share_reflected",
       "share_leak",   "snr_R",        "snr_G",              "snr_B",      "snr_fl"};
   return n;
@@ -265,6 +279,22 @@ nlohmann::ordered_json roi_metrics(const MetricImages& im, const std::vector<uin
   j["r_std_nf"] = num(nf.std_r);
   j["g_std_nf"] = num(nf.std_g);
   j["ellipse_area_nf"] = num(nf.area);
+  // Monte Carlo noise from the two renders, and the spread that is left without it.
+  std::vector<std::array<double, 2>> half_diff;
+  for (auto& c : rc.cells)
+    if (std::isfinite(c.rg_a[0]) && std::isfinite(c.rg_b[0]))
+      half_diff.push_back({0.5 * (c.rg_a[0] - c.rg_b[0]), 0.5 * (c.rg_a[1] - c.rg_b[1])});
+  if (half_diff.size() >= 2 && half_diff.size() == rc.cells.size()) {
+    Spread mc = chroma_spread(half_diff);
+    double rr = nf.cov_rr - mc.cov_rr, rg = nf.cov_rg - mc.cov_rg, gg = nf.cov_gg - mc.cov_gg;
+    j["r_std_mc"] = num(mc.std_r);
+    j["g_std_mc"] = num(mc.std_g);
+    j["r_std_light"] = num(std::sqrt(std::max(0.0, rr)));
+    j["g_std_light"] = num(std::sqrt(std::max(0.0, gg)));
+    j["ellipse_area_light"] = (rr > 0 && gg > 0) ? num(ellipse_area(rr, rg, gg)) : nlohmann::json(0.0);
+  } else {
+    for (const char* k : {"r_std_mc", "g_std_mc", "r_std_light", "g_std_light", "ellipse_area_light"}) j[k] = nullptr;
+  }
   j["corr_int_r"] = num(pearson(inten, r_nf));
   j["corr_int_g"] = num(pearson(inten, g_nf));
   j["corr_irr_r"] = num(pearson(irr_lin, r_irr));

@@ -5,8 +5,14 @@
 //    min/max, the robust 5 %/95 % percentile ratio, the coefficient of variation std/mean;
 //  - per 2x2 CFA cell whose four pixels are in the ROI: r = R/(R+G+B), g = G/(R+G+B) from the raw
 //    (black subtracted; cells with a pixel at the white level are left out, as `oralfluor chroma`
-//    does) and from the noise-free expected electrons ("_nf"); spread = std of r and g and the
-//    area pi * a * b of the 95 % ellipse (a, b its semi-axes, chi-square 2 dof);
+//    does) and noise-free ("_nf") from the expected electrons of every channel averaged over the
+//    cell's four pixels (no sensor noise and no CFA sampling: a light gradient across the cell does
+//    not bias it); spread = std of r and g and the area pi * a * b of the 95 % ellipse (a, b its
+//    semi-axes, chi-square 2 dof);
+//  - with two independent renders (different seeds) of the point: the Monte Carlo noise of the
+//    noise-free chromaticity ("_mc": std of half the difference of the two renders' r, g, which is
+//    the noise of their average) and the spread the light and the tissue cause ("_light": the
+//    noise-free covariance minus the Monte Carlo covariance);
 //  - intensity = R + G + B of a cell (expected electrons): its CV, and the Pearson correlation of
 //    the noise-free r and g with intensity and with the cell's irradiance; slope of r and g per
 //    decade of irradiance (least squares against log10 E), which says how far the chromaticity
@@ -67,6 +73,7 @@ inline double emva_snr(double mu, const SensorDescription& s) { return mu / emva
 struct CellSample {
   int x = 0, y = 0;                 // top-left pixel
   std::array<double, 2> rg{}, rg_nf{};
+  std::array<double, 2> rg_a{}, rg_b{};  // noise-free from each of two independent renders (NaN without)
   double intensity = 0;             // R + G + B of the cell, expected photo-electrons (G = mean of the greens)
   double irradiance = 0;            // mean aov.irradiance of the four pixels
 };
@@ -78,6 +85,11 @@ struct MetricImages {
   double black = 0, white = 65535;
   const std::vector<uint16_t>* raw = nullptr;        // noisy mosaic (DN)
   const std::vector<float>* expected = nullptr;      // expected photo-electrons of the pixel's own channel
+  // [(y * width + x) * 3 + c]: expected electrons each channel would collect at the pixel; null:
+  // the noise-free chromaticity falls back to the mosaic (`expected`), CFA sampling included.
+  const std::vector<float>* channel_e = nullptr;
+  const std::vector<float>* channel_e_a = nullptr;   // optional: two independent renders whose
+  const std::vector<float>* channel_e_b = nullptr;   // mean is channel_e (Monte Carlo noise)
   const std::vector<float>* irradiance = nullptr;    // aov.irradiance, W m^-2
   const std::vector<float>* fluorescence = nullptr;  // signal split (signal_split.h), electrons; optional
   const std::vector<float>* reflected = nullptr;

@@ -157,7 +157,7 @@ nlohmann::json point_identity(const SweepSpec& spec, const DesignPoint& pt) {
   nlohmann::json full = spec.to_json();
   nlohmann::json rois = full["rois"];
   for (auto& r : rois)
-    if (r.contains("texture")) r["texture"] = canonical_text(r["texture"].get<std::string>());
+    for (auto& t : r["textures"]) t["file"] = canonical_text(t["file"].get<std::string>());
   return {{"identity_version", 1},
           {"scene", canonical_text(scene)},
           {"scene_text", hex16(fnv1a(slurp(scene)))},
@@ -210,6 +210,30 @@ PointOutcome evaluate_point(const SweepSpec& spec, const DesignPoint& pt, PointR
   ro.progress = ctx.progress;
   RenderResult rr = render(scene, ro);
   if (rr.stats.interrupted) return {{}, true};
+  // A second, independent render (another seed) for the Monte Carlo noise of the metrics; the
+  // image analysed is the average of both (weighted by their sample counts).
+  SpectralImage half_a, half_b;
+  RenderStats stats = rr.stats;
+  const uint64_t seed = scene.integrator.seed;
+  if (spec.render.replicates == 2) {
+    scene.integrator.seed = seed + 0x9e3779b97f4a7c15ULL;
+    RenderOptions ro2 = ro;
+    ro2.aovs = false;
+    RenderResult rb = render(scene, ro2);
+    scene.integrator.seed = seed;
+    if (rb.stats.interrupted) return {{}, true};
+    half_a = rr.image;
+    half_b = rb.image;
+    double wa = rr.stats.spp_done, wb = rb.stats.spp_done, ws = wa + wb;
+    for (size_t i = 0; i < rr.image.data.size(); ++i) rr.image.data[i] = float((wa * half_a.data[i] + wb * half_b.data[i]) / ws);
+    for (size_t i = 0; i < rr.image.fluorescence.size() && i < half_b.fluorescence.size(); ++i)
+      rr.image.fluorescence[i] = float((wa * half_a.fluorescence[i] + wb * half_b.fluorescence[i]) / ws);
+    stats.spp_done += rb.stats.spp_done;
+    stats.seconds += rb.stats.seconds;
+    // Per-pixel noise of the average of two independent estimates.
+    stats.relative_noise = 0.5 * std::sqrt(rr.stats.relative_noise * rr.stats.relative_noise +
+                                           rb.stats.relative_noise * rb.stats.relative_noise);
+  }
   const SpectralImage& img = rr.image;
   const int W = img.width, H = img.height;
 
@@ -260,6 +284,14 @@ PointOutcome evaluate_point(const SweepSpec& spec, const DesignPoint& pt, PointR
   mi.white = run.meta.white_level_dn;
   mi.raw = &run.raw.dn;
   mi.expected = &run.expected.mosaic_e;
+  mi.channel_e = &run.expected.channel_e;
+  std::vector<float> ch_a, ch_b;
+  if (spec.render.replicates == 2) {
+    ch_a = expected_electrons(half_a, cam, run.geometry).channel_e;
+    ch_b = expected_electrons(half_b, cam, run.geometry).channel_e;
+    mi.channel_e_a = &ch_a;
+    mi.channel_e_b = &ch_b;
+  }
   mi.irradiance = &img.aovs.at("aov.irradiance");
   mi.fluorescence = &split.fluorescence;
   mi.reflected = &split.reflected;
@@ -274,20 +306,22 @@ PointOutcome evaluate_point(const SweepSpec& spec, const DesignPoint& pt, PointR
     for (size_t m = 0; m < scene.materials.size(); ++m)
       if (scene.materials[m].name == roi.material) index = int(m);
     if (index < 0) warnings.push_back("ROI " + roi.name + ": the scene has no material \"" + roi.material + "\"");
-    const Texture* tex = nullptr;
-    if (!roi.texture.empty()) {
-      auto it = ctx.textures.find(roi.texture.string());
-      if (it == ctx.textures.end()) it = ctx.textures.emplace(roi.texture.string(), read_texture(roi.texture)).first;
-      tex = &it->second;
+    std::vector<const Texture*> tex;
+    for (auto& c : roi.textures) {
+      auto it = ctx.textures.find(c.file.string());
+      if (it == ctx.textures.end()) it = ctx.textures.emplace(c.file.string(), read_texture(c.file)).first;
+      tex.push_back(&it->second);
     }
     std::vector<uint8_t> mask(size_t(W) * H, 0);
     size_t n = 0;
     for (size_t i = 0; i < mask.size(); ++i) {
       if (index < 0 || std::lround(mat[i]) != index) continue;
-      if (tex) {
-        double t = tex->lookup(au[i], av[i]);
-        if (!(t > roi.above && t < roi.below)) continue;
+      bool inside = true;
+      for (size_t k = 0; k < tex.size() && inside; ++k) {
+        double t = tex[k]->lookup(au[i], av[i]);
+        inside = t > roi.textures[k].above && t < roi.textures[k].below;
       }
+      if (!inside) continue;
       mask[i] = 1;
       ++n;
       if (&roi == &spec.rois.front()) {
@@ -374,11 +408,12 @@ PointOutcome evaluate_point(const SweepSpec& spec, const DesignPoint& pt, PointR
   res["metrics"] = metrics;
   res["render"] = {{"width", W},
                    {"height", H},
-                   {"spp", rr.stats.spp_done},
+                   {"spp", stats.spp_done},
+                   {"replicates", spec.render.replicates},
                    {"spp_max", scene.integrator.spp},
                    {"noise_target", scene.integrator.noise_target},
-                   {"relative_noise", rr.stats.relative_noise},
-                   {"seconds", rr.stats.seconds},
+                   {"relative_noise", stats.relative_noise},
+                   {"seconds", stats.seconds},
                    {"lights", scene.lights.size()},
                    {"bands_nm", {lo.front(), hi.back()}},
                    {"led_power_outside_bands", outside_fraction}};

@@ -127,8 +127,20 @@ SweepParameter parse_parameter(const JsonNode& n) {
   return p;
 }
 
+TextureCondition parse_condition(const JsonNode& n, const char* file_key) {
+  TextureCondition c;
+  c.file = n.at(file_key).existing_file();
+  if (!n.has("above") && !n.has("below")) n.fail("a texture needs a threshold: above and/or below");
+  if (auto a = n.find("above")) c.above = a->number();
+  if (auto b = n.find("below")) c.below = b->number();
+  if (!(c.below > c.above)) n.fail("below must be greater than above");
+  return c;
+}
+
+// {"name", "material", "texture", "above", "below"} or {"name", "material", "textures": [{"file",
+// "above", "below"}, ...]}.
 RoiSpec parse_roi_spec(const JsonNode& n) {
-  n.check_keys({"name", "material", "texture", "above", "below"});
+  n.check_keys({"name", "material", "texture", "above", "below", "textures"});
   RoiSpec r;
   r.name = n.at("name").string();
   if (r.name.empty()) n.at("name").fail("must not be empty");
@@ -136,15 +148,19 @@ RoiSpec parse_roi_spec(const JsonNode& n) {
     if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-'))
       n.at("name").fail("use letters, digits, _ and - only (it prefixes CSV columns)");
   r.material = n.at("material").string();
-  if (auto t = n.find("texture")) {
-    r.texture = t->existing_file();
-    if (!n.has("above") && !n.has("below")) n.fail("a texture needs a threshold: above and/or below");
+  if (n.has("texture")) {
+    if (n.has("textures")) n.fail("give texture (one condition) or textures (a list), not both");
+    r.textures.push_back(parse_condition(n, "texture"));
   } else if (n.has("above") || n.has("below")) {
     n.fail("above/below threshold a texture: give texture");
   }
-  if (auto a = n.find("above")) r.above = a->number();
-  if (auto b = n.find("below")) r.below = b->number();
-  if (!(r.below > r.above)) n.fail("below must be greater than above");
+  if (auto ts = n.find("textures")) {
+    for (size_t i = 0; i < ts->size(); ++i) {
+      JsonNode t = ts->at(i);
+      t.check_keys({"file", "above", "below"});
+      r.textures.push_back(parse_condition(t, "file"));
+    }
+  }
   return r;
 }
 
@@ -187,7 +203,8 @@ SweepSpec parse_sweep_spec(const JsonFile& f) {
   s.camera = root.at("camera").existing_file();
 
   if (auto r = root.find("render")) {
-    r->check_keys({"width", "height", "spp", "max_depth", "seed", "noise_target", "output_bands"});
+    r->check_keys({"width", "height", "spp", "max_depth", "seed", "noise_target", "output_bands", "replicates"});
+    s.render.replicates = r->integer_or("replicates", 1, 1, 2);
     if (auto v = r->find("width")) s.render.width = v->integer(2, 16384);
     if (auto v = r->find("height")) s.render.height = v->integer(2, 16384);
     if (auto v = r->find("spp")) s.render.spp = v->integer(1, 1 << 24);
@@ -239,8 +256,7 @@ SweepSpec parse_sweep_spec(const JsonFile& f) {
       s.rois.push_back(std::move(r));
     }
   } else {
-    s.rois.push_back(RoiSpec{"tongue", "tongue", {}, -std::numeric_limits<double>::infinity(),
-                             std::numeric_limits<double>::infinity()});
+    s.rois.push_back(RoiSpec{"tongue", "tongue", {}});
   }
   if (auto lc = root.find("lesion_contrast")) {
     lc->check_keys({"lesion", "healthy"});
@@ -301,11 +317,12 @@ nlohmann::json SweepSpec::to_json() const {
   }
   nlohmann::json rois_j = nlohmann::json::array();
   for (auto& r : rois) {
-    nlohmann::json j = {{"name", r.name}, {"material", r.material}};
-    if (!r.texture.empty()) {
-      j["texture"] = r.texture.string();
-      if (std::isfinite(r.above)) j["above"] = r.above;
-      if (std::isfinite(r.below)) j["below"] = r.below;
+    nlohmann::json j = {{"name", r.name}, {"material", r.material}, {"textures", nlohmann::json::array()}};
+    for (auto& t : r.textures) {
+      nlohmann::json c = {{"file", t.file.string()}};
+      if (std::isfinite(t.above)) c["above"] = t.above;
+      if (std::isfinite(t.below)) c["below"] = t.below;
+      j["textures"].push_back(c);
     }
     rois_j.push_back(j);
   }
@@ -317,7 +334,8 @@ nlohmann::json SweepSpec::to_json() const {
           {"camera", camera.string()},
           {"render", {{"width", opt(render.width)}, {"height", opt(render.height)}, {"spp", opt(render.spp)},
                       {"max_depth", opt(render.max_depth)}, {"seed", opt(render.seed)},
-                      {"noise_target", opt(render.noise_target)}, {"output_bands", opt(render.output_bands)}}},
+                      {"noise_target", opt(render.noise_target)}, {"output_bands", opt(render.output_bands)},
+                      {"replicates", render.replicates}}},
           {"camera_run", {{"noise", opt(camera_run.noise)}, {"seed", opt(camera_run.seed)}}},
           {"design", {{"type", design.type == DesignSpec::Type::kGrid ? "grid" : "latin_hypercube"},
                       {"points", design.points}, {"seed", design.seed}}},

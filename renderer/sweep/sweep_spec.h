@@ -56,13 +56,18 @@ struct SweepParameter {
   int levels() const { return static_cast<int>(values.size()); }
 };
 
-// A named region of interest: pixels that see `material` and, optionally, where a texture looked
-// up at the pixel's UV is above / below a threshold (e.g. lesion map > 0.5).
-struct RoiSpec {
-  std::string name, material;
-  std::filesystem::path texture;  // resolved against the sweep file; empty: none
+// A texture looked up at the pixel's UV must lie strictly between `above` and `below`.
+struct TextureCondition {
+  std::filesystem::path file;  // resolved against the sweep file
   double above = -std::numeric_limits<double>::infinity();
   double below = std::numeric_limits<double>::infinity();
+};
+
+// A named region of interest: pixels that see `material` and meet every texture condition (e.g.
+// lesion map > 0.5; or lesion map < 0.1 and porphyrin map < 0.05 for uniform tongue tissue).
+struct RoiSpec {
+  std::string name, material;
+  std::vector<TextureCondition> textures;
 };
 
 struct RenderSettings {
@@ -72,6 +77,9 @@ struct RenderSettings {
   // Film bands {"min_nm", "max_nm", "step_nm"}: must reach down into the LED's band for the
   // leaked excitation to be simulated at all (scenes often start their bands at 400 nm).
   std::optional<nlohmann::json> output_bands;
+  // 2: render every point twice with different seeds and average; the difference of the two gives
+  // the Monte Carlo noise of the chromaticity metrics (sweep_metrics.h "_mc", "_light").
+  int replicates = 1;
 };
 
 struct CameraSettings {
