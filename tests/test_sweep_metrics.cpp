@@ -306,3 +306,31 @@ TEST(SweepMetrics, TwoRendersSeparateMonteCarloNoiseFromTheSpreadOfTheLight) {
   EXPECT_GT(m["r_std_nf"].get<double>(), m["r_std_light"].get<double>());
   EXPECT_NEAR(m["g_std_light"].get<double>() / std_of(g_true), 1.0, 0.05);
 }
+
+TEST(SweepMetrics, ChromaticitySlopeAgainstFieldAngle) {
+  // r = (100 + a theta) / 400 and g = (200 - a theta) / 400 exactly, theta = x degrees: the slopes
+  // per 10 degrees are +-10 a / 400.
+  const int w = 40, h = 4;
+  const double a = 0.8;
+  std::vector<float> ch(size_t(w) * h * 3), mosaic(size_t(w) * h), angle(size_t(w) * h), irr(size_t(w) * h, 1.0f);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      size_t p = size_t(y) * w + x;
+      angle[p] = float(x);
+      ch[p * 3 + 0] = float(100 + a * x);
+      ch[p * 3 + 1] = float(200 - a * x);
+      ch[p * 3 + 2] = 100.0f;
+      mosaic[p] = ch[p * 3 + cfa_channel(CfaPattern::kRGGB, x, y)];
+    }
+  MetricImages im;
+  im.width = w;
+  im.height = h;
+  im.expected = &mosaic;
+  im.channel_e = &ch;
+  im.irradiance = &irr;
+  im.field_angle_deg = &angle;
+  auto m = roi_metrics(im, std::vector<uint8_t>(size_t(w) * h, 1), SensorDescription{});
+  EXPECT_NEAR(m["slope_r_angle"].get<double>(), 10 * a / 400, 1e-9);
+  EXPECT_NEAR(m["slope_g_angle"].get<double>(), -10 * a / 400, 1e-9);
+  EXPECT_TRUE(m["slope_r_irr"].is_null());  // uniform light: no slope against it
+}

@@ -157,7 +157,7 @@ RoiCells roi_cells(const MetricImages& im, const std::vector<uint8_t>& mask) {
       size_t i00 = size_t(y) * w + x, i10 = i00 + 1, i01 = i00 + w, i11 = i01 + 1;
       if (!(mask[i00] && mask[i10] && mask[i01] && mask[i11])) continue;
       ++out.complete;
-      double raw[3] = {0, 0, 0}, e[3] = {0, 0, 0}, ea[3] = {0, 0, 0}, eb[3] = {0, 0, 0}, irr = 0;
+      double raw[3] = {0, 0, 0}, e[3] = {0, 0, 0}, ea[3] = {0, 0, 0}, eb[3] = {0, 0, 0}, irr = 0, ang = 0;
       int count[3] = {0, 0, 0};
       bool sat = false;
       for (size_t i : {i00, i10, i01, i11}) {
@@ -179,6 +179,7 @@ RoiCells roi_cells(const MetricImages& im, const std::vector<uint8_t>& mask) {
           e[c] += (*im.expected)[i];
         }
         irr += im.irradiance ? (*im.irradiance)[i] : kNaN;
+        ang += im.field_angle_deg ? (*im.field_angle_deg)[i] : kNaN;
         ++count[c];
       }
       if (sat) {
@@ -200,6 +201,7 @@ RoiCells roi_cells(const MetricImages& im, const std::vector<uint8_t>& mask) {
       s.rg_b = halves ? rg_chromaticity(eb[0], eb[1], eb[2]) : std::array<double, 2>{kNaN, kNaN};
       s.intensity = e[0] + e[1] + e[2];
       s.irradiance = irr / 4.0;
+      s.field_angle_deg = ang / 4.0;
       out.cells.push_back(s);
     }
   return out;
@@ -211,7 +213,8 @@ const std::vector<std::string>& roi_metric_names() {
       "irr_cv",       "int_cv",       "r_mean",             "g_mean",     "r_std",           "g_std",
       "ellipse_area", "r_std_nf",     "g_std_nf",           "ellipse_area_nf", "r_std_mc",   "g_std_mc",
       "r_std_light",  "g_std_light",  "ellipse_area_light", "corr_int_r", "corr_int_g",
-      "corr_irr_r",   "corr_irr_g",   "slope_r_irr",        "slope_g_irr", "share_fluorescence", "share_reflected",
+      "corr_irr_r",   "corr_irr_g",   "slope_r_irr",        "slope_g_irr", "slope_r_angle",    "slope_g_angle",
+      "share_fluorescence", "share_reflected",
       "share_leak",   "snr_R",        "snr_G",              "snr_B",      "snr_fl"};
   return n;
 }
@@ -256,9 +259,14 @@ nlohmann::ordered_json roi_metrics(const MetricImages& im, const std::vector<uin
   j["irr_p5_p95"] = have_irr ? num(irr.p5_over_p95) : nullptr;
   j["irr_cv"] = have_irr ? num(irr.cv) : nullptr;
 
-  std::vector<double> inten, r_nf, g_nf, lirr, r_irr, g_irr, irr_lin;
+  std::vector<double> inten, r_nf, g_nf, lirr, r_irr, g_irr, irr_lin, ang10, r_ang, g_ang;
   for (auto& c : rc.cells) {
     inten.push_back(c.intensity);
+    if (std::isfinite(c.field_angle_deg)) {
+      ang10.push_back(c.field_angle_deg / 10.0);
+      r_ang.push_back(c.rg_nf[0]);
+      g_ang.push_back(c.rg_nf[1]);
+    }
     r_nf.push_back(c.rg_nf[0]);
     g_nf.push_back(c.rg_nf[1]);
     if (c.irradiance > 0) {
@@ -301,6 +309,8 @@ nlohmann::ordered_json roi_metrics(const MetricImages& im, const std::vector<uin
   j["corr_irr_g"] = num(pearson(irr_lin, g_irr));
   j["slope_r_irr"] = num(ls_slope(lirr, r_irr));
   j["slope_g_irr"] = num(ls_slope(lirr, g_irr));
+  j["slope_r_angle"] = num(ls_slope(ang10, r_ang));
+  j["slope_g_angle"] = num(ls_slope(ang10, g_ang));
 
   // Shares and SNR over the ROI's pixels, each pixel counting its own CFA colour.
   double parts[3] = {0, 0, 0}, ch_sum[3] = {0, 0, 0}, fl_ch[3] = {0, 0, 0};

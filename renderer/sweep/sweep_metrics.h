@@ -16,7 +16,8 @@
 //  - intensity = R + G + B of a cell (expected electrons): its CV, and the Pearson correlation of
 //    the noise-free r and g with intensity and with the cell's irradiance; slope of r and g per
 //    decade of irradiance (least squares against log10 E), which says how far the chromaticity
-//    moves when the light changes ten-fold;
+//    moves when the light changes ten-fold; slope of r and g per 10 degrees of the pixel's field
+//    angle (what an interference filter's edge shift does across the image);
 //  - shares of the expected photo-electrons in the ROI that are fluorescence, reflected light and
 //    leaked excitation (signal_split.h);
 //  - SNR per colour channel at the ROI's mean signal from the EMVA 1288 model, and the SNR of the
@@ -76,6 +77,7 @@ struct CellSample {
   std::array<double, 2> rg_a{}, rg_b{};  // noise-free from each of two independent renders (NaN without)
   double intensity = 0;             // R + G + B of the cell, expected photo-electrons (G = mean of the greens)
   double irradiance = 0;            // mean aov.irradiance of the four pixels
+  double field_angle_deg = 0;       // mean field angle of the four pixels (NaN without geometry)
 };
 
 // Per-pixel inputs, all width x height, row-major.
@@ -91,6 +93,7 @@ struct MetricImages {
   const std::vector<float>* channel_e_a = nullptr;   // optional: two independent renders whose
   const std::vector<float>* channel_e_b = nullptr;   // mean is channel_e (Monte Carlo noise)
   const std::vector<float>* irradiance = nullptr;    // aov.irradiance, W m^-2
+  const std::vector<float>* field_angle_deg = nullptr;  // optional: chief-ray field angle per pixel
   const std::vector<float>* fluorescence = nullptr;  // signal split (signal_split.h), electrons; optional
   const std::vector<float>* reflected = nullptr;
   const std::vector<float>* leak = nullptr;

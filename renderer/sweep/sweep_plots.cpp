@@ -10,7 +10,8 @@ namespace ofl {
 namespace {
 
 const unsigned kRoiPalette[] = {0x1f77b4, 0xd62728, 0x2ca02c, 0x9467bd, 0x8c564b, 0x17becf};
-const unsigned kLinePalette[] = {0x2ca02c, 0x1f77b4, 0xff7f0e, 0xd62728, 0x9467bd, 0x8c564b, 0xe377c2, 0x7f7f7f};
+// Reference lines are dashed, in colours the ROIs do not use.
+const unsigned kLinePalette[] = {0xff7f0e, 0xe377c2, 0xbcbd22, 0x7f7f7f, 0x8c564b, 0x393b79, 0x637939, 0xad494a};
 
 double nice_step(double range, int target) {
   if (!(range > 0)) return 1.0;
@@ -141,9 +142,11 @@ VectorPlot metric_plot(const MetricPlotSpec& s, const std::vector<MetricSample>&
     p.polyline(pts, rgb_hex(0xd62728, 0.9f), 1.8);
   }
   // Jitter categorical dots a little so that points at one level do not hide each other.
+  bool shared = false;  // several points at one level
+  for (auto& [l, e] : by_level) shared = shared || e.second.second > 1;
   for (size_t i = 0; i < samples.size(); ++i) {
     double x = samples[i].x;
-    if (cat) x += ((i * 7919) % 21 - 10) * 0.012;
+    if (cat && shared) x += (int((i * 7919) % 21) - 10) * 0.012;
     p.circle(f.map(x, samples[i].y), 3.2, rgb_hex(0x1f77b4, 0.65f));
   }
   p.clip({});
@@ -151,14 +154,15 @@ VectorPlot metric_plot(const MetricPlotSpec& s, const std::vector<MetricSample>&
   return p;
 }
 
-ChromaWindow common_chroma_window(const std::vector<const nlohmann::ordered_json*>& results, const std::vector<std::string>& rois) {
+ChromaWindow common_chroma_window(const std::vector<const nlohmann::ordered_json*>& results, const ScatterStyle& style) {
   std::vector<double> r, g;
+  const std::string cells = style.noise_free ? "cells_nf" : "cells";
   for (const auto* res : results) {
     if (!res || !res->contains("scatter")) continue;
-    for (auto& name : rois) {
-      if (!(*res)["scatter"].contains(name)) continue;
+    for (auto& name : style.rois) {
+      if (!(*res)["scatter"].contains(name) || !(*res)["scatter"][name].contains(cells)) continue;
       const auto& s = (*res)["scatter"][name];
-      for (auto& c : s["cells"]) {
+      for (auto& c : s[cells]) {
         r.push_back(c[0].get<double>());
         g.push_back(c[1].get<double>());
       }
@@ -176,13 +180,14 @@ ChromaWindow common_chroma_window(const std::vector<const nlohmann::ordered_json
   return {cr - half, cr + half, cg - half, cg + half};
 }
 
-VectorPlot point_chroma_plot(const nlohmann::ordered_json& res, const std::vector<std::string>& rois, const ChromaWindow& win,
+VectorPlot point_chroma_plot(const nlohmann::ordered_json& res, const ScatterStyle& style, const ChromaWindow& win,
                              int width, int height) {
+  const std::string sfx = style.noise_free ? "_nf" : "";
   VectorPlot p(width, height);
   double side = std::min(width - 70.0, height - 80.0);
   Frame f{58, 24, side, side, win.r0, win.r1, win.g0, win.g1};
   char title[128];
-  std::snprintf(title, sizeof title, "point %d", res.value("index", -1));
+  std::snprintf(title, sizeof title, "point %d%s", res.value("index", -1), style.noise_free ? " (noise-free)" : "");
   draw_frame(p, f, title, "r = R / (R + G + B)");
   p.text({14, f.y + f.h / 2 - 10}, "g", 11, rgb_hex(0x222222), TextAnchor::kMiddle);
   p.clip(f.clip());
@@ -192,7 +197,7 @@ VectorPlot point_chroma_plot(const nlohmann::ordered_json& res, const std::vecto
     for (size_t i = 0; i < lines.size(); ++i) {
       std::vector<Point2> pts;
       for (auto& q : lines[i]["rg"]) pts.push_back(f.map(q[0].get<double>(), q[1].get<double>()));
-      p.polyline(pts, line_color(i), 1.6);
+      p.polyline(pts, line_color(i), 1.6, true);
       for (size_t k = 1; k < pts.size(); k += 4) p.circle(pts[k], 2.0, line_color(i));
     }
     const auto& t = res["reference"]["tongue_rg"];
@@ -201,16 +206,16 @@ VectorPlot point_chroma_plot(const nlohmann::ordered_json& res, const std::vecto
       p.rect(c[0] - 4, c[1] - 4, 8, 8, rgb_hex(0x000000));
     }
   }
-  for (size_t k = 0; k < rois.size(); ++k) {
-    if (!res["scatter"].contains(rois[k])) continue;
-    const auto& s = res["scatter"][rois[k]];
-    Rgba c = roi_color(k);
+  for (size_t k = 0; k < style.rois.size(); ++k) {
+    if (!res["scatter"].contains(style.rois[k]) || !res["scatter"][style.rois[k]].contains("cells" + sfx)) continue;
+    const auto& s = res["scatter"][style.rois[k]];
+    Rgba c = roi_color(style.color[k]);
     Rgba dot = c;
     dot.a = 0.45f;
-    for (auto& q : s["cells"]) p.circle(f.map(q[0].get<double>(), q[1].get<double>()), 1.8, dot);
-    if (s.contains("ellipse")) {
-      const auto& e = s["ellipse"];
-      double mr = s["mean"][0].get<double>(), mg = s["mean"][1].get<double>();
+    for (auto& q : s["cells" + sfx]) p.circle(f.map(q[0].get<double>(), q[1].get<double>()), 1.8, dot);
+    if (s.contains("ellipse" + sfx)) {
+      const auto& e = s["ellipse" + sfx];
+      double mr = s["mean" + sfx][0].get<double>(), mg = s["mean" + sfx][1].get<double>();
       p.polygon(ellipse_points(f, mr, mg, e["a"].get<double>(), e["b"].get<double>(), e["angle_rad"].get<double>()),
                 {0, 0, 0, 0}, c, 1.6);
       auto m = f.map(mr, mg);
@@ -221,10 +226,10 @@ VectorPlot point_chroma_plot(const nlohmann::ordered_json& res, const std::vecto
   p.clip({});
   // Legend under the frame: ROIs.
   double lx = f.x, ly = f.y + f.h + 44;
-  for (size_t k = 0; k < rois.size(); ++k) {
-    p.circle({lx + 4, ly - 4}, 4, roi_color(k));
-    p.text({lx + 11, ly}, rois[k], 10, rgb_hex(0x222222));
-    lx += 14 + 7.0 * rois[k].size();
+  for (size_t k = 0; k < style.rois.size(); ++k) {
+    p.circle({lx + 4, ly - 4}, 4, roi_color(style.color[k]));
+    p.text({lx + 11, ly}, style.rois[k], 10, rgb_hex(0x222222));
+    lx += 14 + 7.0 * style.rois[k].size();
   }
   return p;
 }

@@ -35,11 +35,17 @@ VectorPlot metric_plot(const MetricPlotSpec& spec, const std::vector<MetricSampl
 struct ChromaWindow {
   double r0 = 0, r1 = 1, g0 = 0, g1 = 1;
 };
-// Spans the cells and means of every ROI of every result (robustly: 1st-99th percentile), with a margin.
-ChromaWindow common_chroma_window(const std::vector<const nlohmann::ordered_json*>& results,
-                                  const std::vector<std::string>& rois);
-VectorPlot point_chroma_plot(const nlohmann::ordered_json& result, const std::vector<std::string>& rois,
-                             const ChromaWindow& window, int width = 320, int height = 300);
+// Which cells a scatter plot draws: these ROIs (each in roi_color(color[k])), raw or noise-free.
+struct ScatterStyle {
+  std::vector<std::string> rois;
+  std::vector<size_t> color;
+  bool noise_free = false;
+};
+
+// Spans the drawn cells of every result (robustly: 1st-99th percentile), with a margin.
+ChromaWindow common_chroma_window(const std::vector<const nlohmann::ordered_json*>& results, const ScatterStyle& style);
+VectorPlot point_chroma_plot(const nlohmann::ordered_json& result, const ScatterStyle& style, const ChromaWindow& window,
+                             int width = 320, int height = 300);
 
 // Colour of the k-th ROI / reference line (shared by the plots and the HTML legend).
 Rgba roi_color(size_t k);

@@ -158,7 +158,8 @@ nlohmann::json point_identity(const SweepSpec& spec, const DesignPoint& pt) {
   nlohmann::json rois = full["rois"];
   for (auto& r : rois)
     for (auto& t : r["textures"]) t["file"] = canonical_text(t["file"].get<std::string>());
-  return {{"identity_version", 1},
+  // Bump identity_version whenever what a point computes changes, so old results are not reused.
+  return {{"identity_version", 2},
           {"scene", canonical_text(scene)},
           {"scene_text", hex16(fnv1a(slurp(scene)))},
           {"camera", canonical_text(camera)},
@@ -293,6 +294,11 @@ PointOutcome evaluate_point(const SweepSpec& spec, const DesignPoint& pt, PointR
     mi.channel_e_b = &ch_b;
   }
   mi.irradiance = &img.aovs.at("aov.irradiance");
+  std::vector<float> field_angle(size_t(W) * H);
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x)
+      field_angle[size_t(y) * W + x] = float(run.geometry.field_angle(run.geometry.radius_px(x, y)) * 180.0 / 3.14159265358979323846);
+  mi.field_angle_deg = &field_angle;
   mi.fluorescence = &split.fluorescence;
   mi.reflected = &split.reflected;
   mi.leak = &split.leak;
@@ -334,20 +340,27 @@ PointOutcome evaluate_point(const SweepSpec& spec, const DesignPoint& pt, PointR
     RoiCells rc;
     nlohmann::ordered_json m = roi_metrics(mi, mask, cam.sensor, &rc);
     for (auto it = m.begin(); it != m.end(); ++it) metrics[roi.name + "." + it.key()] = it.value();
-    // What the report draws: a subsample of the cells, the mean and the 95 % ellipse (raw).
-    nlohmann::json pts = nlohmann::json::array();
+    // What the report draws: a subsample of the cells, the mean and the 95 % ellipse, from the raw
+    // and from the noise-free cells.
     size_t keep = size_t(std::max(0, spec.metrics.scatter_cells));
     size_t stride = keep ? std::max<size_t>(1, (rc.cells.size() + keep - 1) / keep) : 0;
-    for (size_t k = 0; stride && k < rc.cells.size(); k += stride)
-      pts.push_back({round_to(rc.cells[k].rg[0], 1e-5), round_to(rc.cells[k].rg[1], 1e-5)});
-    nlohmann::json s = {{"cells", pts}};
-    if (rc.cells.size() >= 2) {
-      std::vector<std::array<double, 2>> rg;
-      for (auto& c : rc.cells) rg.push_back(c.rg);
-      Spread sp = chroma_spread(rg);
-      Ellipse e = covariance_ellipse(sp.mean_r, sp.mean_g, sp.cov_rr, sp.cov_rg, sp.cov_gg);
-      s["mean"] = {sp.mean_r, sp.mean_g};
-      s["ellipse"] = {{"a", e.a}, {"b", e.b}, {"angle_rad", e.angle_rad}};
+    nlohmann::json s = nlohmann::json::object();
+    for (bool nf : {false, true}) {
+      const std::string suffix = nf ? "_nf" : "";
+      nlohmann::json pts = nlohmann::json::array();
+      for (size_t k = 0; stride && k < rc.cells.size(); k += stride) {
+        const auto& rg = nf ? rc.cells[k].rg_nf : rc.cells[k].rg;
+        pts.push_back({round_to(rg[0], 1e-5), round_to(rg[1], 1e-5)});
+      }
+      s["cells" + suffix] = pts;
+      if (rc.cells.size() >= 2) {
+        std::vector<std::array<double, 2>> rg;
+        for (auto& c : rc.cells) rg.push_back(nf ? c.rg_nf : c.rg);
+        Spread sp = chroma_spread(rg);
+        Ellipse e = covariance_ellipse(sp.mean_r, sp.mean_g, sp.cov_rr, sp.cov_rg, sp.cov_gg);
+        s["mean" + suffix] = {sp.mean_r, sp.mean_g};
+        s["ellipse" + suffix] = {{"a", e.a}, {"b", e.b}, {"angle_rad", e.angle_rad}};
+      }
     }
     scatter[roi.name] = s;
     cells[roi.name] = std::move(rc);

@@ -1,5 +1,6 @@
 #include "renderer/sweep/sweep_report.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <sstream>
@@ -150,7 +151,7 @@ ReportFiles write_sweep_report(const SweepSpec& spec, const std::vector<DesignPo
   // Points table.
   const std::vector<std::string> table_metrics = {"irr_cv", "irr_p5_p95", "r_std", "g_std", "ellipse_area", "share_leak", "snr_G"};
   const std::string first_roi = spec.rois.empty() ? "" : spec.rois.front().name;
-  h << "<h2>Points</h2>\n<table class=\"points\"><tr><th>#</th><th>preview</th>";
+  h << "<h2 id=\"points\">Points</h2>\n<table class=\"points\"><tr><th>#</th><th>preview</th>";
   for (auto& p : spec.parameters) h << "<th>" << html_escape(p.name) << "</th>";
   for (auto& m : table_metrics) h << "<th>" << html_escape(first_roi + "." + m) << "</th>";
   h << "<th>spp</th><th>noise</th></tr>\n";
@@ -164,7 +165,7 @@ ReportFiles write_sweep_report(const SweepSpec& spec, const std::vector<DesignPo
   h << "</table>\n";
 
   // Metrics against parameters.
-  h << "<h2>Metrics against parameters</h2>\n<p class=\"note\">One dot per finished point; the red line joins the "
+  h << "<h2 id=\"metrics\">Metrics against parameters</h2>\n<p class=\"note\">One dot per finished point; the red line joins the "
        "mean at each level of the parameter (averaged over the other parameters). Metric names are defined in "
        "docs/sweep-format.md.</p>\n";
   std::error_code ec;
@@ -193,7 +194,9 @@ ReportFiles write_sweep_report(const SweepSpec& spec, const std::vector<DesignPo
           s.y = y.get<double>();
           samples.push_back(s);
         }
-        VectorPlot p = metric_plot(ps, samples);
+        // Categorical axes get room for their labels.
+        int width = ps.categories.empty() ? 300 : std::max(300, 70 + 64 * int(ps.categories.size()));
+        VectorPlot p = metric_plot(ps, samples, width);
         h << "<td>";
         add_plot(p);
         h << "</td>";
@@ -209,21 +212,37 @@ ReportFiles write_sweep_report(const SweepSpec& spec, const std::vector<DesignPo
   }
 
   // Chromaticity per point.
-  h << "<h2>Chromaticity of each point</h2>\n<p class=\"note\">Cells (2x2 CFA) of each ROI in the (r, g) plane from "
-       "the raw, with each ROI's mean (+) and 95 % ellipse; coloured lines: tongue reflectance plus increasing "
+  ScatterStyle style;
+  style.noise_free = spec.report.scatter_noise_free;
+  for (size_t k = 0; k < roi_names.size(); ++k)
+    if (spec.report.scatter_rois.empty() ||
+        std::find(spec.report.scatter_rois.begin(), spec.report.scatter_rois.end(), roi_names[k]) != spec.report.scatter_rois.end()) {
+      style.rois.push_back(roi_names[k]);
+      style.color.push_back(k);
+    }
+  h << "<h2 id=\"chromaticity\">Chromaticity of each point</h2>\n<p class=\"note\">Cells (2x2 CFA) of each ROI in the (r, g) plane "
+    << (style.noise_free ? "from the noise-free expected electrons" : "from the raw")
+    << ", with each ROI's mean (+) and 95 % ellipse; dashed lines: tongue reflectance plus increasing "
        "fluorophore concentration under this point's LED through its camera (black square: no fluorophore), as "
        "<code>oralfluor chroma</code> draws them. All panels share one window.</p>\n<p class=\"legend\">";
-  for (size_t k = 0; k < roi_names.size(); ++k) h << "<span>" << swatch(roi_color(k)) << "ROI " << html_escape(roi_names[k]) << "</span>";
+  for (size_t k = 0; k < style.rois.size(); ++k)
+    h << "<span>" << swatch(roi_color(style.color[k])) << "ROI " << html_escape(style.rois[k]) << "</span>";
   if (!done.empty() && done.front()->contains("reference")) {
     const auto& lines = (*done.front())["reference"]["lines"];
     for (size_t i = 0; i < lines.size(); ++i)
       h << "<span>" << swatch(line_color(i)) << html_escape(lines[i]["fluorophore"].get<std::string>()) << "</span>";
   }
   h << "</p>\n<div class=\"figs\">\n";
-  ChromaWindow win = common_chroma_window(done, roi_names);
+  ChromaWindow win = common_chroma_window(done, style);
   for (const auto* r : done) {
     h << "<figure>";
-    add_plot(point_chroma_plot(*r, roi_names, win));
+    VectorPlot cp = point_chroma_plot(*r, style, win);
+    add_plot(cp);
+    if (options.plot_files) {
+      auto stem = out / "plots" / ("chroma_" + std::to_string((*r)["index"].get<int>()));
+      cp.write_svg(stem.string() + ".svg");
+      cp.write_png(stem.string() + ".png");
+    }
     h << "<figcaption><img alt=\"\" style=\"float:right;width:96px\" src=\"data:image/png;base64,"
       << r->value("thumbnail_png_base64", std::string()) << "\">" << html_escape(r->value("label", std::string()))
       << "</figcaption></figure>\n";

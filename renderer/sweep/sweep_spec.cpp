@@ -273,7 +273,14 @@ SweepSpec parse_sweep_spec(const JsonFile& f) {
   }
   s.report.metrics = default_report_metrics();
   if (auto r = root.find("report")) {
-    r->check_keys({"metrics", "thumbnail_width"});
+    r->check_keys({"metrics", "thumbnail_width", "scatter", "scatter_rois"});
+    s.report.scatter_noise_free = r->choice_or("scatter", "raw", {"raw", "noise_free"}) == "noise_free";
+    if (auto sr = r->find("scatter_rois"))
+      for (size_t i = 0; i < sr->size(); ++i) {
+        std::string n = sr->at(i).string();
+        if (!s.roi(n)) sr->at(i).fail("no ROI named \"" + n + "\"");
+        s.report.scatter_rois.push_back(n);
+      }
     if (auto ms = r->find("metrics")) {
       s.report.metrics.clear();
       for (size_t i = 0; i < ms->size(); ++i) s.report.metrics.push_back(ms->at(i).string());

@@ -104,6 +104,8 @@ struct MetricSettings {
 struct ReportSettings {
   std::vector<std::string> metrics;     // metric names plotted against every parameter (per ROI)
   int thumbnail_width = 120;
+  bool scatter_noise_free = false;      // "scatter": "raw" (default) or "noise_free" cells in the scatter plots
+  std::vector<std::string> scatter_rois;  // ROIs drawn in the scatter plots (empty: all)
 };
 
 struct SweepSpec {
