@@ -7,6 +7,7 @@
 
 #include <fstream>
 
+#include "renderer/sweep/sweep_point.h"
 #include "renderer/sweep/sweep_store.h"
 
 using namespace ofl;
@@ -76,4 +77,18 @@ TEST(SweepStore, RemovesOnlyTemporariesOfDeadProcessesOnThisHost) {
   EXPECT_TRUE(std::filesystem::exists(other));
   EXPECT_TRUE(st.keys().empty());  // temporaries are never results
   std::filesystem::remove_all(dir);
+}
+
+TEST(SweepStore, Base64RoundTripsEveryByte) {
+  std::string bytes;
+  for (int i = 0; i < 256; ++i) bytes += char(i);
+  for (size_t n : {0u, 1u, 2u, 3u, 4u, 255u, 256u}) {
+    std::string part = bytes.substr(0, n);
+    std::string text = base64_encode(part);
+    EXPECT_EQ(text.size() % 4, 0u);
+    EXPECT_EQ(base64_decode(text), part) << n;
+  }
+  EXPECT_EQ(base64_encode("Man"), "TWFu");  // RFC 4648 examples
+  EXPECT_EQ(base64_encode("Ma"), "TWE=");
+  EXPECT_EQ(base64_encode("M"), "TQ==");
 }

@@ -70,7 +70,7 @@ void draw_frame(VectorPlot& p, const Frame& f, const std::string& title, const s
     for (size_t i = 0; i < categories->size(); ++i) {
       auto a = f.map(double(i), f.y0);
       std::string t = (*categories)[i];
-      if (t.size() > 14) t = t.substr(0, 13) + "~";
+      if (t.size() > 16) t = t.substr(0, 15) + "~";
       p.text({a[0], a[1] + 14}, t, 10, label, TextAnchor::kMiddle);
     }
   } else {
@@ -133,7 +133,13 @@ VectorPlot metric_plot(const MetricPlotSpec& s, const std::vector<MetricSample>&
       e.second.first += m.y;
       e.second.second += 1;
     }
-  if (by_level.size() >= 2) {
+  if (cat) {
+    // Unordered levels: a short bar at each level's mean, no line between levels.
+    for (auto& [l, e] : by_level) {
+      double m = e.second.first / e.second.second;
+      p.polyline({f.map(e.first - 0.3, m), f.map(e.first + 0.3, m)}, rgb_hex(0xd62728, 0.9f), 1.8);
+    }
+  } else if (by_level.size() >= 2) {
     std::vector<std::pair<double, double>> mean;
     for (auto& [l, e] : by_level) mean.push_back({e.first, e.second.first / e.second.second});
     std::sort(mean.begin(), mean.end());
@@ -186,8 +192,11 @@ VectorPlot point_chroma_plot(const nlohmann::ordered_json& res, const ScatterSty
   VectorPlot p(width, height);
   double side = std::min(width - 70.0, height - 80.0);
   Frame f{58, 24, side, side, win.r0, win.r1, win.g0, win.g1};
-  char title[128];
-  std::snprintf(title, sizeof title, "point %d%s", res.value("index", -1), style.noise_free ? " (noise-free)" : "");
+  // "point 4: variant=lp_absorbing (noise-free)", the label left out when it is too long to fit.
+  std::string label = res.value("label", std::string());
+  std::string title = "point " + std::to_string(res.value("index", -1));
+  if (!label.empty() && label.size() <= 30) title += ": " + label;
+  if (style.noise_free) title += " (noise-free)";
   draw_frame(p, f, title, "r = R / (R + G + B)");
   p.text({14, f.y + f.h / 2 - 10}, "g", 11, rgb_hex(0x222222), TextAnchor::kMiddle);
   p.clip(f.clip());

@@ -20,6 +20,7 @@
 #include "renderer/sweep/rig_generators.h"
 #include "renderer/sweep/signal_split.h"
 #include "renderer/sweep/sweep_metrics.h"
+#include "renderer/sweep/sweep_plots.h"
 
 namespace ofl {
 namespace {
@@ -70,12 +71,14 @@ std::vector<float> downscale(const std::vector<float>& rgb, int w, int h, int tw
   return out;
 }
 
-std::string thumbnail_png(const std::vector<float>& rgb, int w, int h, int width, const std::string& key) {
+// A PNG (bytes) of linear RGB scaled to `width` pixels wide; exposure < 0: automatic.
+std::string thumbnail_png(const std::vector<float>& rgb, int w, int h, int width, const std::string& key,
+                          double exposure = -1) {
   int tw = std::min(width, w), th = std::max(1, int(std::lround(double(h) * tw / w)));
   std::vector<float> small = downscale(rgb, w, h, tw, th);
   auto tmp = std::filesystem::temp_directory_path() /
              ("ofl_sweep_thumb_" + std::to_string(::getpid()) + "_" + key + ".png");
-  write_srgb_png(tmp, tw, th, small, auto_exposure(small));
+  write_srgb_png(tmp, tw, th, small, exposure > 0 ? exposure : auto_exposure(small));
   std::string bytes = slurp(tmp);
   std::error_code ec;
   std::filesystem::remove(tmp, ec);
@@ -123,6 +126,24 @@ std::string base64_encode(const std::string& in) {
     out += t[(v >> 12) & 63];
     out += t[(v >> 6) & 63];
     out += '=';
+  }
+  return out;
+}
+
+std::string base64_decode(const std::string& in) {
+  std::string out;
+  uint32_t acc = 0;
+  int bits = 0;
+  for (char ch : in) {
+    int v = ch >= 'A' && ch <= 'Z' ? ch - 'A' : ch >= 'a' && ch <= 'z' ? ch - 'a' + 26 : ch >= '0' && ch <= '9' ? ch - '0' + 52
+          : ch == '+' ? 62 : ch == '/' ? 63 : -1;
+    if (v < 0) continue;
+    acc = (acc << 6) | uint32_t(v);
+    bits += 6;
+    if (bits >= 8) {
+      bits -= 8;
+      out += char((acc >> bits) & 0xff);
+    }
   }
   return out;
 }
@@ -305,6 +326,7 @@ PointOutcome evaluate_point(const SweepSpec& spec, const DesignPoint& pt, PointR
 
   nlohmann::ordered_json metrics;
   std::map<std::string, RoiCells> cells;
+  std::vector<int> roi_of_pixel(size_t(W) * H, -1);  // last ROI a pixel belongs to, for the ROI picture
   nlohmann::json scatter = nlohmann::json::object();
   double cx_sum = 0, cy_sum = 0, c_n = 0;
   for (const auto& roi : spec.rois) {
@@ -364,6 +386,8 @@ PointOutcome evaluate_point(const SweepSpec& spec, const DesignPoint& pt, PointR
     }
     scatter[roi.name] = s;
     cells[roi.name] = std::move(rc);
+    for (size_t i = 0; i < mask.size(); ++i)
+      if (mask[i]) roi_of_pixel[i] = int(&roi - spec.rois.data());
   }
   if (!spec.metrics.lesion_roi.empty()) {
     nlohmann::ordered_json c = contrast_metrics(cells[spec.metrics.lesion_roi], cells[spec.metrics.healthy_roi]);
@@ -405,6 +429,20 @@ PointOutcome evaluate_point(const SweepSpec& spec, const DesignPoint& pt, PointR
   std::vector<float> rgb = raw_to_linear_srgb(run.raw.dn, W, H, run.meta.cfa, run.meta.black_level_dn,
                                               run.meta.white_level_dn, color, PreviewSettings{});
   std::string png = thumbnail_png(rgb, W, H, spec.report.thumbnail_width, key);
+  // The ROIs over a grey version of the preview, so that a user can see what each ROI holds.
+  std::vector<float> roi_rgb(rgb.size());
+  double ex = auto_exposure(rgb);
+  for (size_t i = 0; i < roi_of_pixel.size(); ++i) {
+    float grey = float(std::min(1.0, ex * (0.2126 * rgb[i * 3] + 0.7152 * rgb[i * 3 + 1] + 0.0722 * rgb[i * 3 + 2])));
+    float c[3] = {grey, grey, grey};
+    if (roi_of_pixel[i] >= 0) {
+      Rgba col = roi_color(size_t(roi_of_pixel[i]));
+      float lin[3] = {std::pow(col.r, 2.2f), std::pow(col.g, 2.2f), std::pow(col.b, 2.2f)};
+      for (int k = 0; k < 3; ++k) c[k] = 0.35f * grey + 0.65f * lin[k];
+    }
+    for (int k = 0; k < 3; ++k) roi_rgb[i * 3 + k] = c[k];
+  }
+  std::string roi_png = thumbnail_png(roi_rgb, W, H, std::max(W, spec.report.thumbnail_width), key + "_roi", 1.0);
 
   nlohmann::ordered_json params;
   for (size_t i = 0; i < spec.parameters.size(); ++i) params[spec.parameters[i].name] = pt.values[i];
@@ -435,6 +473,7 @@ PointOutcome evaluate_point(const SweepSpec& spec, const DesignPoint& pt, PointR
   res["scatter"] = scatter;
   res["reference"] = {{"tongue_rg", tongue_rg}, {"lines", lines}};
   res["thumbnail_png_base64"] = base64_encode(png);
+  res["roi_png_base64"] = base64_encode(roi_png);
   res["warnings"] = warnings;
   res["identity"] = point_identity(spec, pt);
   res["host"] = host;

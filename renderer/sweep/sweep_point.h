@@ -42,5 +42,6 @@ PointOutcome evaluate_point(const SweepSpec& spec, const DesignPoint& point, Poi
 
 // Standard base64 (RFC 4648), for thumbnails inside the result JSON.
 std::string base64_encode(const std::string& bytes);
+std::string base64_decode(const std::string& text);  // ignores anything that is not base64
 
 }  // namespace ofl

@@ -8,6 +8,7 @@
 #include "renderer/core/error.h"
 #include "renderer/sweep/sweep_metrics.h"
 #include "renderer/sweep/sweep_plots.h"
+#include "renderer/sweep/sweep_point.h"
 #include "renderer/sweep/sweep_store.h"
 
 namespace ofl {
@@ -166,7 +167,7 @@ ReportFiles write_sweep_report(const SweepSpec& spec, const std::vector<DesignPo
 
   // Metrics against parameters.
   h << "<h2 id=\"metrics\">Metrics against parameters</h2>\n<p class=\"note\">One dot per finished point; the red line joins the "
-       "mean at each level of the parameter (averaged over the other parameters). Metric names are defined in "
+       "mean at each level of a numeric parameter (averaged over the other parameters); for named levels a red bar marks each level's mean. Metric names are defined in "
        "docs/sweep-format.md.</p>\n";
   std::error_code ec;
   if (options.plot_files) std::filesystem::create_directories(out / "plots", ec);
@@ -195,7 +196,7 @@ ReportFiles write_sweep_report(const SweepSpec& spec, const std::vector<DesignPo
           samples.push_back(s);
         }
         // Categorical axes get room for their labels.
-        int width = ps.categories.empty() ? 300 : std::max(300, 70 + 64 * int(ps.categories.size()));
+        int width = ps.categories.empty() ? 300 : std::max(300, 70 + 84 * int(ps.categories.size()));
         VectorPlot p = metric_plot(ps, samples, width);
         h << "<td>";
         add_plot(p);
@@ -239,13 +240,21 @@ ReportFiles write_sweep_report(const SweepSpec& spec, const std::vector<DesignPo
     VectorPlot cp = point_chroma_plot(*r, style, win);
     add_plot(cp);
     if (options.plot_files) {
-      auto stem = out / "plots" / ("chroma_" + std::to_string((*r)["index"].get<int>()));
+      const std::string idx = std::to_string((*r)["index"].get<int>());
+      auto stem = out / "plots" / ("chroma_" + idx);
       cp.write_svg(stem.string() + ".svg");
       cp.write_png(stem.string() + ".png");
+      for (const char* k : {"thumbnail", "roi"})
+        if (r->contains(std::string(k) + "_png_base64"))
+          write_file_atomic(out / "plots" / (std::string(k == std::string("roi") ? "rois_" : "preview_") + idx + ".png"),
+                            base64_decode((*r)[std::string(k) + "_png_base64"].get<std::string>()));
     }
     h << "<figcaption><img alt=\"\" style=\"float:right;width:96px\" src=\"data:image/png;base64,"
-      << r->value("thumbnail_png_base64", std::string()) << "\">" << html_escape(r->value("label", std::string()))
-      << "</figcaption></figure>\n";
+      << r->value("thumbnail_png_base64", std::string()) << "\">";
+    if (r->contains("roi_png_base64"))
+      h << "<img alt=\"ROIs\" title=\"ROIs\" style=\"float:right;width:96px;margin-right:4px\" src=\"data:image/png;base64,"
+        << (*r)["roi_png_base64"].get<std::string>() << "\">";
+    h << html_escape(r->value("label", std::string())) << "</figcaption></figure>\n";
   }
   h << "</div>\n";
   // Count plots that were laid out with a size and hold drawing: proves the page rendered them.
