@@ -344,3 +344,15 @@ TEST(SweepCli, BadSweepFilesExitWithCode2NamingTheField) {
   EXPECT_NE(r.err.find("/parameters/0/valeus"), std::string::npos) << r.err;
   std::filesystem::remove_all(dir);
 }
+
+TEST(SweepCli, DryRunListsEveryPointAndWritesNothing) {
+  auto dir = fresh("dry");
+  CmdResult r = sweep(kTiny + " -o " + (dir / "out").string() + " --dry-run", dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  int lines = 0;
+  for (size_t p = r.out.find("missing"); p != std::string::npos; p = r.out.find("missing", p + 1)) ++lines;
+  EXPECT_EQ(lines, 4) << r.out;
+  EXPECT_NE(r.out.find("leds=6 distance_m=0.095"), std::string::npos) << r.out;
+  EXPECT_FALSE(std::filesystem::exists(dir / "out"));
+  std::filesystem::remove_all(dir);
+}

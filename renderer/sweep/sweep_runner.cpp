@@ -97,8 +97,8 @@ SweepRunSummary run_sweep(const SweepSpec& spec, const SweepRunOptions& opt) {
     std::optional<PointStore> store;
     std::string todo_text;
     if (rank == 0) {
-      store.emplace(opt.out_dir);
-      store->remove_stale_temporaries();
+      store.emplace(opt.out_dir, !opt.dry_run);
+      if (!opt.dry_run) store->remove_stale_temporaries();
       nlohmann::ordered_json manifest;
       manifest["spec"] = spec.to_json();
       manifest["points"] = nlohmann::json::array();

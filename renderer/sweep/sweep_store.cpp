@@ -63,8 +63,9 @@ void write_file_atomic(const std::filesystem::path& file, const std::string& con
   fsync_path(dir, O_RDONLY | O_DIRECTORY);  // and the rename itself is durable
 }
 
-PointStore::PointStore(std::filesystem::path out_dir) : dir_(std::move(out_dir) / "points") {
+PointStore::PointStore(std::filesystem::path out_dir, bool create) : dir_(std::move(out_dir) / "points") {
   std::error_code ec;
+  if (!create) return;
   std::filesystem::create_directories(dir_, ec);
   if (!std::filesystem::is_directory(dir_, ec)) throw InputError(dir_.string(), "", "cannot create the points folder");
 }

@@ -20,7 +20,8 @@ void write_file_atomic(const std::filesystem::path& file, const std::string& con
 
 class PointStore {
  public:
-  explicit PointStore(std::filesystem::path out_dir);  // creates <out_dir>/points
+  // Creates <out_dir>/points unless `create` is false (a dry run only looks).
+  explicit PointStore(std::filesystem::path out_dir, bool create = true);
   const std::filesystem::path& dir() const { return dir_; }
   std::filesystem::path file_for(const std::string& key) const;
   // The stored result when its file exists, parses and carries this key; nullopt otherwise.
