@@ -300,20 +300,49 @@ bool VectorPlot::write_png(const std::filesystem::path& file) const {
     switch (it.kind) {
       case Item::kPolyline:
         if (it.dashed) {
-          // Dashes 4 w long with 3 w gaps along the polyline.
-          double on = 4 * it.width, off = 3 * it.width, pos = 0;
+          // Dashes 4 w long with 3 w gaps along the polyline. The dash state is carried along
+          // explicitly: recomputing it with fmod at every step can land a hair short of a dash
+          // boundary and then advance by less than one ulp forever.
+          const double on = 4 * it.width, off = 3 * it.width, period = on + off;
+          double pos = 0;  // distance along the polyline where the segment starts
           for (size_t i = 0; i + 1 < it.pts.size(); ++i) {
             Point2 a = it.pts[i], b = it.pts[i + 1];
             double len = std::hypot(b[0] - a[0], b[1] - a[1]);
-            for (double t = 0; t < len;) {
-              double phase = std::fmod(pos + t, on + off);
-              double run = phase < on ? on - phase : on + off - phase;
-              double t1 = std::min(len, t + run);
-              if (phase < on)
-                stroke(cv, {{a[0] + (b[0] - a[0]) * t / len, a[1] + (b[1] - a[1]) * t / len},
-                            {a[0] + (b[0] - a[0]) * t1 / len, a[1] + (b[1] - a[1]) * t1 / len}},
-                       it.stroke, it.width, it.clip);
-              t = t1;
+            if (!(len > 0) || !std::isfinite(len)) continue;
+            // Only the part of the segment over the canvas is dashed (Liang-Barsky): a line that runs
+            // far off the picture (a zoomed plot) would otherwise cost one dash per 7 w of its length.
+            double m = it.width + 2, lo = 0, hi = len;
+            auto clip_axis = [&](double p0, double d, double min_v, double max_v) {
+              double dir = d / len;
+              if (std::fabs(dir) < 1e-15) {
+                if (p0 < min_v || p0 > max_v) hi = -1;
+                return;
+              }
+              double t0 = (min_v - p0) / dir, t1 = (max_v - p0) / dir;
+              if (t0 > t1) std::swap(t0, t1);
+              lo = std::max(lo, t0);
+              hi = std::min(hi, t1);
+            };
+            clip_axis(a[0], b[0] - a[0], -m, cv.w + m);
+            clip_axis(a[1], b[1] - a[1], -m, cv.h + m);
+            if (hi > lo) {
+              double phase = std::fmod(pos + lo, period);
+              bool drawing = phase < on;
+              double left = drawing ? on - phase : period - phase;
+              for (double t = lo; t < hi;) {
+                double step = std::min(left, hi - t);
+                if (drawing && step > 0)
+                  stroke(cv, {{a[0] + (b[0] - a[0]) * t / len, a[1] + (b[1] - a[1]) * t / len},
+                              {a[0] + (b[0] - a[0]) * (t + step) / len, a[1] + (b[1] - a[1]) * (t + step) / len}},
+                         it.stroke, it.width, it.clip);
+                t += step;
+                left -= step;
+                if (left <= 1e-9 * period) {  // next dash or gap: a full length, so t always moves on
+                  drawing = !drawing;
+                  left = drawing ? on : off;
+                }
+                if (step <= 0) break;
+              }
             }
             pos += len;
           }

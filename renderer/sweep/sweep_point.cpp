@@ -1,0 +1,485 @@
+#include "renderer/sweep/sweep_point.h"
+
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+
+#include "renderer/analysis/chroma_reference.h"
+#include "renderer/analysis/chromaticity.h"
+#include "renderer/analysis/fluorescence_chart.h"
+#include "renderer/camera/camera_color.h"
+#include "renderer/camera/camera_pipeline.h"
+#include "renderer/core/error.h"
+#include "renderer/image/png_writer.h"
+#include "renderer/render/render_job.h"
+#include "renderer/spectral/fluorophore_library.h"
+#include "renderer/sweep/rig_generators.h"
+#include "renderer/sweep/signal_split.h"
+#include "renderer/sweep/sweep_metrics.h"
+#include "renderer/sweep/sweep_plots.h"
+
+namespace ofl {
+namespace {
+
+uint64_t fnv1a(const std::string& s, uint64_t h = 0xcbf29ce484222325ULL) {
+  for (unsigned char c : s) {
+    h ^= c;
+    h *= 0x100000001b3ULL;
+  }
+  return h;
+}
+
+std::string slurp(const std::filesystem::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+std::string canonical_text(const std::filesystem::path& p) {
+  std::error_code ec;
+  auto c = std::filesystem::weakly_canonical(p, ec);
+  return ec ? p.string() : c.string();
+}
+
+std::string hex16(uint64_t v) {
+  char b[17];
+  std::snprintf(b, sizeof b, "%016llx", static_cast<unsigned long long>(v));
+  return b;
+}
+
+double round_to(double v, double q) { return std::round(v / q) * q; }
+
+// Box-filtered downscale of linear RGB.
+std::vector<float> downscale(const std::vector<float>& rgb, int w, int h, int tw, int th) {
+  std::vector<float> out(size_t(tw) * th * 3, 0.0f);
+  for (int ty = 0; ty < th; ++ty)
+    for (int tx = 0; tx < tw; ++tx) {
+      int x0 = tx * w / tw, x1 = std::max(x0 + 1, (tx + 1) * w / tw);
+      int y0 = ty * h / th, y1 = std::max(y0 + 1, (ty + 1) * h / th);
+      double s[3] = {0, 0, 0};
+      for (int y = y0; y < y1; ++y)
+        for (int x = x0; x < x1; ++x)
+          for (int c = 0; c < 3; ++c) s[c] += rgb[(size_t(y) * w + x) * 3 + c];
+      double n = double(x1 - x0) * (y1 - y0);
+      for (int c = 0; c < 3; ++c) out[(size_t(ty) * tw + tx) * 3 + c] = float(s[c] / n);
+    }
+  return out;
+}
+
+// A PNG (bytes) of linear RGB scaled to `width` pixels wide; exposure < 0: automatic.
+std::string thumbnail_png(const std::vector<float>& rgb, int w, int h, int width, const std::string& key,
+                          double exposure = -1) {
+  int tw = std::min(width, w), th = std::max(1, int(std::lround(double(h) * tw / w)));
+  std::vector<float> small = downscale(rgb, w, h, tw, th);
+  auto tmp = std::filesystem::temp_directory_path() /
+             ("ofl_sweep_thumb_" + std::to_string(::getpid()) + "_" + key + ".png");
+  write_srgb_png(tmp, tw, th, small, exposure > 0 ? exposure : auto_exposure(small));
+  std::string bytes = slurp(tmp);
+  std::error_code ec;
+  std::filesystem::remove(tmp, ec);
+  return bytes;
+}
+
+// Which of the base files a point uses (a scene_file / camera_file parameter may pick another).
+std::pair<std::filesystem::path, std::filesystem::path> point_files(const SweepSpec& spec, const DesignPoint& pt) {
+  auto scene = spec.scene, camera = spec.camera;
+  for (size_t i = 0; i < spec.parameters.size(); ++i) {
+    const auto& p = spec.parameters[i];
+    if (p.kind != ParamKind::kGenerator || !pt.values[i].is_string()) continue;
+    std::filesystem::path v = pt.values[i].get<std::string>();
+    if (v.is_relative()) v = std::filesystem::path(spec.file).parent_path() / v;
+    if (p.generator == "scene_file") scene = v;
+    if (p.generator == "camera_file") camera = v;
+  }
+  return {scene, camera};
+}
+
+const std::vector<std::string> kReferenceFluorophores = {"FAD", "NADH", "collagen", "protoporphyrin"};
+
+}  // namespace
+
+std::string base64_encode(const std::string& in) {
+  static const char* t = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string out;
+  out.reserve((in.size() + 2) / 3 * 4);
+  size_t i = 0;
+  for (; i + 2 < in.size(); i += 3) {
+    uint32_t v = (uint8_t(in[i]) << 16) | (uint8_t(in[i + 1]) << 8) | uint8_t(in[i + 2]);
+    out += t[v >> 18];
+    out += t[(v >> 12) & 63];
+    out += t[(v >> 6) & 63];
+    out += t[v & 63];
+  }
+  if (i + 1 == in.size()) {
+    uint32_t v = uint8_t(in[i]) << 16;
+    out += t[v >> 18];
+    out += t[(v >> 12) & 63];
+    out += "==";
+  } else if (i + 2 == in.size()) {
+    uint32_t v = (uint8_t(in[i]) << 16) | (uint8_t(in[i + 1]) << 8);
+    out += t[v >> 18];
+    out += t[(v >> 12) & 63];
+    out += t[(v >> 6) & 63];
+    out += '=';
+  }
+  return out;
+}
+
+std::string base64_decode(const std::string& in) {
+  std::string out;
+  uint32_t acc = 0;
+  int bits = 0;
+  for (char ch : in) {
+    int v = ch >= 'A' && ch <= 'Z' ? ch - 'A' : ch >= 'a' && ch <= 'z' ? ch - 'a' + 26 : ch >= '0' && ch <= '9' ? ch - '0' + 52
+          : ch == '+' ? 62 : ch == '/' ? 63 : -1;
+    if (v < 0) continue;
+    acc = (acc << 6) | uint32_t(v);
+    bits += 6;
+    if (bits >= 8) {
+      bits -= 8;
+      out += char((acc >> bits) & 0xff);
+    }
+  }
+  return out;
+}
+
+nlohmann::json point_identity(const SweepSpec& spec, const DesignPoint& pt) {
+  auto [scene, camera] = point_files(spec, pt);
+  nlohmann::json params = nlohmann::json::array();
+  for (size_t i = 0; i < spec.parameters.size(); ++i) {
+    const auto& p = spec.parameters[i];
+    nlohmann::json j = {{"name", p.name}, {"value", pt.values[i]}};
+    switch (p.kind) {
+      case ParamKind::kScenePath: j["scene"] = p.pointer; break;
+      case ParamKind::kCameraPath: j["camera"] = p.pointer; break;
+      case ParamKind::kGenerator:
+        j["generator"] = p.generator;
+        j["light"] = p.light;
+        j["filter"] = p.filter;
+        j["peak_nm"] = p.peak_nm;
+        break;
+      case ParamKind::kVariants:
+        for (auto& v : p.variants)
+          if (v.label == pt.values[i]) {
+            nlohmann::json e = nlohmann::json::array();
+            for (auto& [k, x] : v.scene_edits) e.push_back({"scene", k, x});
+            for (auto& [k, x] : v.camera_edits) e.push_back({"camera", k, x});
+            j["edits"] = e;
+          }
+        break;
+    }
+    params.push_back(j);
+  }
+  nlohmann::json full = spec.to_json();
+  nlohmann::json rois = full["rois"];
+  for (auto& r : rois)
+    for (auto& t : r["textures"]) t["file"] = canonical_text(t["file"].get<std::string>());
+  // Bump identity_version whenever what a point computes changes, so old results are not reused.
+  return {{"identity_version", 2},
+          {"scene", canonical_text(scene)},
+          {"scene_text", hex16(fnv1a(slurp(scene)))},
+          {"camera", canonical_text(camera)},
+          {"camera_text", hex16(fnv1a(slurp(camera)))},
+          {"parameters", params},
+          {"render", full["render"]},
+          {"camera_run", full["camera_run"]},
+          {"rois", rois},
+          {"metrics", full["metrics"]}};
+}
+
+std::string point_key(const SweepSpec& spec, const DesignPoint& pt) { return hex16(fnv1a(point_identity(spec, pt).dump())); }
+
+PointOutcome evaluate_point(const SweepSpec& spec, const DesignPoint& pt, PointRunContext& ctx) {
+  auto t0 = std::chrono::steady_clock::now();
+  const std::string key = point_key(spec, pt), label = point_label(spec, pt);
+  PointDocuments docs = point_documents(spec, pt.values);
+
+  // Render settings of the sweep go into the scene document (the CLI's overrides for the rest).
+  nlohmann::json& integ = docs.scene["integrator"];
+  if (!integ.is_object()) integ = nlohmann::json::object();
+  if (spec.render.noise_target) integ["noise_target"] = *spec.render.noise_target;
+  if (spec.render.max_depth) integ["max_depth"] = *spec.render.max_depth;
+  if (spec.render.output_bands) integ["output_bands"] = *spec.render.output_bands;
+  SceneOverrides ov;
+  ov.spp = spec.render.spp;
+  ov.seed = spec.render.seed;
+  ov.width = spec.render.width;
+  ov.height = spec.render.height;
+  if ((ov.width.has_value() != ov.height.has_value()) && docs.scene["camera"].contains("resolution")) {
+    // One side given: keep the scene's aspect ratio.
+    auto res = docs.scene["camera"]["resolution"];
+    double aspect = res[1].get<double>() / res[0].get<double>();
+    if (ov.width) ov.height = std::max(2, int(std::lround(*ov.width * aspect)));
+    else ov.width = std::max(2, int(std::lround(*ov.height / aspect)));
+  }
+  Scene scene;
+  CameraDescription cam;
+  try {
+    scene = load_scene(JsonFile::from(docs.scene, docs.scene_file.string()), ov);
+    cam = parse_camera(JsonFile::from(docs.camera, docs.camera_file.string()).root());
+    cam.source = docs.camera_file.string();
+  } catch (const InputError& e) {
+    throw InputError(e.file(), e.field(), std::string(e.what()) + " (as edited for sweep point " +
+                                              std::to_string(pt.index) + ": " + label + ")");
+  }
+
+  RenderOptions ro;
+  ro.progress = ctx.progress;
+  RenderResult rr = render(scene, ro);
+  if (rr.stats.interrupted) return {{}, true};
+  // A second, independent render (another seed) for the Monte Carlo noise of the metrics; the
+  // image analysed is the average of both (weighted by their sample counts).
+  SpectralImage half_a, half_b;
+  RenderStats stats = rr.stats;
+  const uint64_t seed = scene.integrator.seed;
+  if (spec.render.replicates == 2) {
+    scene.integrator.seed = seed + 0x9e3779b97f4a7c15ULL;
+    RenderOptions ro2 = ro;
+    ro2.aovs = false;
+    RenderResult rb = render(scene, ro2);
+    scene.integrator.seed = seed;
+    if (rb.stats.interrupted) return {{}, true};
+    half_a = rr.image;
+    half_b = rb.image;
+    double wa = rr.stats.spp_done, wb = rb.stats.spp_done, ws = wa + wb;
+    for (size_t i = 0; i < rr.image.data.size(); ++i) rr.image.data[i] = float((wa * half_a.data[i] + wb * half_b.data[i]) / ws);
+    for (size_t i = 0; i < rr.image.fluorescence.size() && i < half_b.fluorescence.size(); ++i)
+      rr.image.fluorescence[i] = float((wa * half_a.fluorescence[i] + wb * half_b.fluorescence[i]) / ws);
+    stats.spp_done += rb.stats.spp_done;
+    stats.seconds += rb.stats.seconds;
+    // Per-pixel noise of the average of two independent estimates.
+    stats.relative_noise = 0.5 * std::sqrt(rr.stats.relative_noise * rr.stats.relative_noise +
+                                           rb.stats.relative_noise * rb.stats.relative_noise);
+  }
+  const SpectralImage& img = rr.image;
+  const int W = img.width, H = img.height;
+
+  CameraRunOptions co;
+  co.noise = spec.camera_run.noise;
+  co.seed = spec.camera_run.seed;
+  co.write_dng = false;
+  CameraRun run = simulate_camera(img, cam, co, "sweep point " + key);
+
+  // Leaked excitation: reflected light inside the LED's emission band.
+  const WavelengthGrid& grid = scene.grid();
+  std::vector<double> led(grid.size(), 0.0);
+  for (const auto& l : scene.lights)
+    for (int i = 0; i < grid.size(); ++i) led[i] += l.spectral_intensity[i];
+  auto lo = img.band_lo(), hi = img.band_hi();
+  std::vector<bool> in_band = led_band_mask(lo, hi, grid, led, spec.metrics.led_band_threshold);
+  // Light outside the film's bands is not in the image: the camera cannot see it, leaked or not.
+  double led_total = 0, led_outside = 0;
+  for (int i = 0; i < grid.size(); ++i) {
+    led_total += led[i];
+    if (grid.wavelength(i) < lo.front() || grid.wavelength(i) > hi.back()) led_outside += led[i];
+  }
+  double outside_fraction = led_total > 0 ? led_outside / led_total : 0.0;
+  SignalSplit split = split_signal(img, in_band, cam, run.geometry);
+  nlohmann::json led_bands = nlohmann::json::array();
+  for (size_t b = 0; b < in_band.size(); ++b)
+    if (in_band[b]) {
+      if (!led_bands.empty() && led_bands.back()[1] == lo[b]) led_bands.back()[1] = hi[b];
+      else led_bands.push_back({lo[b], hi[b]});
+    }
+
+  // ROI masks from what each pixel sees.
+  std::vector<std::string> warnings = run.warnings;
+  if (outside_fraction > 0.01) {
+    char b[200];
+    std::snprintf(b, sizeof b, "%.0f %% of the LED power lies outside the output bands (%.1f-%.1f nm): excitation leaking "
+                  "there is not simulated; set render.output_bands to cover the LED", 100 * outside_fraction, lo.front(), hi.back());
+    warnings.push_back(b);
+  }
+  const auto& mat = img.aovs.at("aov.material");
+  const auto& au = img.aovs.at("aov.u");
+  const auto& av = img.aovs.at("aov.v");
+  MetricImages mi;
+  mi.width = W;
+  mi.height = H;
+  mi.cfa = run.meta.cfa;
+  mi.black = run.meta.black_level_dn;
+  mi.white = run.meta.white_level_dn;
+  mi.raw = &run.raw.dn;
+  mi.expected = &run.expected.mosaic_e;
+  mi.channel_e = &run.expected.channel_e;
+  std::vector<float> ch_a, ch_b;
+  if (spec.render.replicates == 2) {
+    ch_a = expected_electrons(half_a, cam, run.geometry).channel_e;
+    ch_b = expected_electrons(half_b, cam, run.geometry).channel_e;
+    mi.channel_e_a = &ch_a;
+    mi.channel_e_b = &ch_b;
+  }
+  mi.irradiance = &img.aovs.at("aov.irradiance");
+  std::vector<float> field_angle(size_t(W) * H);
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x)
+      field_angle[size_t(y) * W + x] = float(run.geometry.field_angle(run.geometry.radius_px(x, y)) * 180.0 / 3.14159265358979323846);
+  mi.field_angle_deg = &field_angle;
+  mi.fluorescence = &split.fluorescence;
+  mi.reflected = &split.reflected;
+  mi.leak = &split.leak;
+
+  nlohmann::ordered_json metrics;
+  std::map<std::string, RoiCells> cells;
+  std::vector<int> roi_of_pixel(size_t(W) * H, -1);  // last ROI a pixel belongs to, for the ROI picture
+  nlohmann::json scatter = nlohmann::json::object();
+  double cx_sum = 0, cy_sum = 0, c_n = 0;
+  for (const auto& roi : spec.rois) {
+    int index = -1;
+    for (size_t m = 0; m < scene.materials.size(); ++m)
+      if (scene.materials[m].name == roi.material) index = int(m);
+    if (index < 0) warnings.push_back("ROI " + roi.name + ": the scene has no material \"" + roi.material + "\"");
+    std::vector<const Texture*> tex;
+    for (auto& c : roi.textures) {
+      auto it = ctx.textures.find(c.file.string());
+      if (it == ctx.textures.end()) it = ctx.textures.emplace(c.file.string(), read_texture(c.file)).first;
+      tex.push_back(&it->second);
+    }
+    std::vector<uint8_t> mask(size_t(W) * H, 0);
+    size_t n = 0;
+    for (size_t i = 0; i < mask.size(); ++i) {
+      if (index < 0 || std::lround(mat[i]) != index) continue;
+      bool inside = true;
+      for (size_t k = 0; k < tex.size() && inside; ++k) {
+        double t = tex[k]->lookup(au[i], av[i]);
+        inside = t > roi.textures[k].above && t < roi.textures[k].below;
+      }
+      if (!inside) continue;
+      mask[i] = 1;
+      ++n;
+      if (&roi == &spec.rois.front()) {
+        cx_sum += double(i % W);
+        cy_sum += double(i / W);
+        c_n += 1;
+      }
+    }
+    if (index >= 0 && n == 0) warnings.push_back("ROI " + roi.name + " covers no pixel");
+    RoiCells rc;
+    nlohmann::ordered_json m = roi_metrics(mi, mask, cam.sensor, &rc);
+    for (auto it = m.begin(); it != m.end(); ++it) metrics[roi.name + "." + it.key()] = it.value();
+    // What the report draws: a subsample of the cells, the mean and the 95 % ellipse, from the raw
+    // and from the noise-free cells.
+    size_t keep = size_t(std::max(0, spec.metrics.scatter_cells));
+    size_t stride = keep ? std::max<size_t>(1, (rc.cells.size() + keep - 1) / keep) : 0;
+    nlohmann::json s = nlohmann::json::object();
+    for (bool nf : {false, true}) {
+      const std::string suffix = nf ? "_nf" : "";
+      nlohmann::json pts = nlohmann::json::array();
+      for (size_t k = 0; stride && k < rc.cells.size(); k += stride) {
+        const auto& rg = nf ? rc.cells[k].rg_nf : rc.cells[k].rg;
+        pts.push_back({round_to(rg[0], 1e-5), round_to(rg[1], 1e-5)});
+      }
+      s["cells" + suffix] = pts;
+      if (rc.cells.size() >= 2) {
+        std::vector<std::array<double, 2>> rg;
+        for (auto& c : rc.cells) rg.push_back(nf ? c.rg_nf : c.rg);
+        Spread sp = chroma_spread(rg);
+        Ellipse e = covariance_ellipse(sp.mean_r, sp.mean_g, sp.cov_rr, sp.cov_rg, sp.cov_gg);
+        s["mean" + suffix] = {sp.mean_r, sp.mean_g};
+        s["ellipse" + suffix] = {{"a", e.a}, {"b", e.b}, {"angle_rad", e.angle_rad}};
+      }
+    }
+    scatter[roi.name] = s;
+    cells[roi.name] = std::move(rc);
+    for (size_t i = 0; i < mask.size(); ++i)
+      if (mask[i]) roi_of_pixel[i] = int(&roi - spec.rois.data());
+  }
+  if (!spec.metrics.lesion_roi.empty()) {
+    nlohmann::ordered_json c = contrast_metrics(cells[spec.metrics.lesion_roi], cells[spec.metrics.healthy_roi]);
+    for (auto it = c.begin(); it != c.end(); ++it) metrics["contrast." + it.key()] = it.value();
+  }
+
+  // Fluorophore reference lines for this point's LED and camera, at the first ROI's field angle.
+  nlohmann::json lines = nlohmann::json::array();
+  nlohmann::json tongue_rg = nullptr;
+  {
+    TabulatedSpectrum t;
+    for (int i = 0; i < grid.size(); ++i) {
+      t.nm.push_back(grid.wavelength(i));
+      t.value.push_back(led[i]);
+    }
+    ReferenceOptions o;
+    o.camera_lo_nm = lo.front();
+    o.camera_hi_nm = hi.back();
+    if (c_n > 0) {
+      double dx = cx_sum / c_n + 0.5 - 0.5 * W, dy = cy_sum / c_n + 0.5 - 0.5 * H;
+      double r = std::sqrt(dx * dx + dy * dy);
+      o.aoi_front_rad = run.geometry.field_angle(r);
+      o.aoi_sensor_rad = run.geometry.sensor_angle(r);
+    }
+    ReferenceSetup setup = make_reference_setup(cam, table_spectrum(t, "LED"), tongue_reflectance_spectrum(), o);
+    auto trg = reference_rg(setup, nullptr, 0.0);
+    if (std::isfinite(trg[0])) tongue_rg = {trg[0], trg[1]};
+    for (const auto& name : kReferenceFluorophores) {
+      GridEem eem = load_fluorophore(name, setup.grid);
+      ReferenceLine l = reference_line(setup, name, eem);
+      if (!l.visible) continue;
+      nlohmann::json rg = nlohmann::json::array();
+      for (auto& p : l.rg) rg.push_back({round_to(p[0], 1e-5), round_to(p[1], 1e-5)});
+      lines.push_back({{"fluorophore", name}, {"rg", rg}});
+    }
+  }
+
+  CameraColor color = camera_color(cam, lo.front(), hi.back(), false);
+  std::vector<float> rgb = raw_to_linear_srgb(run.raw.dn, W, H, run.meta.cfa, run.meta.black_level_dn,
+                                              run.meta.white_level_dn, color, PreviewSettings{});
+  std::string png = thumbnail_png(rgb, W, H, spec.report.thumbnail_width, key);
+  // The ROIs over a grey version of the preview, so that a user can see what each ROI holds.
+  std::vector<float> roi_rgb(rgb.size());
+  double ex = auto_exposure(rgb);
+  for (size_t i = 0; i < roi_of_pixel.size(); ++i) {
+    float grey = float(std::min(1.0, ex * (0.2126 * rgb[i * 3] + 0.7152 * rgb[i * 3 + 1] + 0.0722 * rgb[i * 3 + 2])));
+    float c[3] = {grey, grey, grey};
+    if (roi_of_pixel[i] >= 0) {
+      Rgba col = roi_color(size_t(roi_of_pixel[i]));
+      float lin[3] = {std::pow(col.r, 2.2f), std::pow(col.g, 2.2f), std::pow(col.b, 2.2f)};
+      for (int k = 0; k < 3; ++k) c[k] = 0.35f * grey + 0.65f * lin[k];
+    }
+    for (int k = 0; k < 3; ++k) roi_rgb[i * 3 + k] = c[k];
+  }
+  std::string roi_png = thumbnail_png(roi_rgb, W, H, std::max(W, spec.report.thumbnail_width), key + "_roi", 1.0);
+
+  nlohmann::ordered_json params;
+  for (size_t i = 0; i < spec.parameters.size(); ++i) params[spec.parameters[i].name] = pt.values[i];
+  char host[256] = "";
+  ::gethostname(host, sizeof host - 1);
+  double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  nlohmann::ordered_json res;
+  res["format"] = "oralfluor-sweep-point";
+  res["version"] = 1;
+  res["key"] = key;
+  res["index"] = pt.index;
+  res["label"] = label;
+  res["parameters"] = params;
+  res["metrics"] = metrics;
+  res["render"] = {{"width", W},
+                   {"height", H},
+                   {"spp", stats.spp_done},
+                   {"replicates", spec.render.replicates},
+                   {"spp_max", scene.integrator.spp},
+                   {"noise_target", scene.integrator.noise_target},
+                   {"relative_noise", stats.relative_noise},
+                   {"seconds", stats.seconds},
+                   {"lights", scene.lights.size()},
+                   {"bands_nm", {lo.front(), hi.back()}},
+                   {"led_power_outside_bands", outside_fraction}};
+  res["camera"] = {{"name", cam.name}, {"saturated_fraction", run.summary["saturated_fraction"]}};
+  res["led_band_nm"] = led_bands;
+  res["scatter"] = scatter;
+  res["reference"] = {{"tongue_rg", tongue_rg}, {"lines", lines}};
+  res["thumbnail_png_base64"] = base64_encode(png);
+  res["roi_png_base64"] = base64_encode(roi_png);
+  res["warnings"] = warnings;
+  res["identity"] = point_identity(spec, pt);
+  res["host"] = host;
+  res["rank"] = ctx.rank;
+  res["seconds"] = seconds;
+  return {std::move(res), false};
+}
+
+}  // namespace ofl

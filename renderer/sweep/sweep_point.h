@@ -1,0 +1,47 @@
+// One design point of a sweep, start to finish: edit the documents (rig_generators.h), load the
+// scene, render it (to the noise target when one is set), run the camera, split the signal, build
+// the ROI masks and compute every metric (sweep_metrics.h); plus what the report draws (each ROI's
+// cells in the (r, g) plane, the fluorophore reference lines for this point's LED and camera, a
+// thumbnail). The result is one JSON object, self-contained, so it can be written as one file or
+// sent over MPI as one message.
+//
+// Points are content-addressed: the key is a hash of everything that decides the point's result
+// (the base files and their text, this point's parameter values and edits, render, camera and
+// metric settings), not of its position in the design. A finished result therefore stays valid
+// when the design grows or is reordered, and can never be stored twice.
+#pragma once
+#include <cstdint>
+#include <map>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "renderer/scene/texture.h"
+#include "renderer/sweep/sweep_design.h"
+#include "renderer/sweep/sweep_spec.h"
+
+namespace ofl {
+
+// 16 hex digits (FNV-1a 64 of the point's canonical description).
+std::string point_key(const SweepSpec& spec, const DesignPoint& point);
+nlohmann::json point_identity(const SweepSpec& spec, const DesignPoint& point);  // what the key hashes
+
+struct PointRunContext {
+  std::map<std::string, Texture> textures;  // ROI textures by path, loaded once per run
+  int rank = 0;                             // MPI rank (0 without MPI), recorded in the result
+  bool progress = false;                    // the renderer's progress bar
+};
+
+struct PointOutcome {
+  nlohmann::ordered_json result;  // empty when interrupted (keys in a readable order)
+  bool interrupted = false;  // SIGINT arrived during the render: nothing to save
+};
+
+PointOutcome evaluate_point(const SweepSpec& spec, const DesignPoint& point, PointRunContext& ctx);
+
+// Standard base64 (RFC 4648), for thumbnails inside the result JSON.
+std::string base64_encode(const std::string& bytes);
+std::string base64_decode(const std::string& text);  // ignores anything that is not base64
+
+}  // namespace ofl

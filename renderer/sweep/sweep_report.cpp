@@ -1,0 +1,284 @@
+#include "renderer/sweep/sweep_report.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+
+#include "renderer/core/error.h"
+#include "renderer/sweep/sweep_metrics.h"
+#include "renderer/sweep/sweep_plots.h"
+#include "renderer/sweep/sweep_point.h"
+#include "renderer/sweep/sweep_store.h"
+
+namespace ofl {
+namespace {
+
+std::string html_escape(const std::string& s) {
+  std::string o;
+  for (char c : s) {
+    if (c == '<') o += "&lt;";
+    else if (c == '>') o += "&gt;";
+    else if (c == '&') o += "&amp;";
+    else if (c == '"') o += "&quot;";
+    else o += c;
+  }
+  return o;
+}
+
+std::string number_text(double v) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%.9g", v);
+  return b;
+}
+
+std::string short_number(const nlohmann::ordered_json& v) {
+  if (v.is_null()) return "&ndash;";
+  if (v.is_number()) {
+    char b[32];
+    std::snprintf(b, sizeof b, "%.4g", v.get<double>());
+    return b;
+  }
+  return html_escape(v.is_string() ? v.get<std::string>() : v.dump());
+}
+
+const nlohmann::ordered_json& metric(const nlohmann::ordered_json& r, const std::string& name) {
+  static const nlohmann::ordered_json null_value = nullptr;
+  auto it = r["metrics"].find(name);
+  return it == r["metrics"].end() ? null_value : *it;
+}
+
+const char* kStyle = R"(
+body { font-family: "DejaVu Sans", Arial, sans-serif; margin: 24px; color: #222; }
+h1 { font-size: 22px; } h2 { font-size: 18px; margin-top: 32px; } h3 { font-size: 15px; }
+table.points { border-collapse: collapse; font-size: 12px; }
+table.points td, table.points th { border: 1px solid #ccc; padding: 3px 6px; text-align: right; vertical-align: middle; }
+table.points th { background: #f3f3f3; }
+table.grid td { vertical-align: top; padding: 0; }
+.figs { display: flex; flex-wrap: wrap; gap: 12px; }
+figure { margin: 0; border: 1px solid #ddd; padding: 6px; font-size: 11px; }
+figcaption { max-width: 320px; }
+.legend span { display: inline-block; margin-right: 14px; font-size: 12px; }
+.swatch { display: inline-block; width: 12px; height: 12px; margin-right: 4px; vertical-align: middle; }
+.note { color: #555; font-size: 13px; max-width: 900px; }
+)";
+
+std::string swatch(const Rgba& c) {
+  char b[96];
+  std::snprintf(b, sizeof b, "<i class=\"swatch\" style=\"background:#%02x%02x%02x\"></i>", int(std::lround(c.r * 255)),
+                int(std::lround(c.g * 255)), int(std::lround(c.b * 255)));
+  return b;
+}
+
+}  // namespace
+
+std::vector<std::string> metric_columns(const SweepSpec& spec) {
+  std::vector<std::string> c;
+  for (auto& r : spec.rois)
+    for (auto& m : roi_metric_names()) c.push_back(r.name + "." + m);
+  if (!spec.metrics.lesion_roi.empty())
+    for (auto& m : contrast_metric_names()) c.push_back("contrast." + m);
+  return c;
+}
+
+std::string csv_field(const nlohmann::ordered_json& v) {
+  if (v.is_null()) return "";
+  if (v.is_number_integer()) return v.dump();
+  if (v.is_number()) return std::isfinite(v.get<double>()) ? number_text(v.get<double>()) : "";
+  if (v.is_boolean()) return v.get<bool>() ? "true" : "false";
+  std::string s = v.is_string() ? v.get<std::string>() : v.dump();
+  if (s.find_first_of(",\"\n\r") == std::string::npos) return s;
+  std::string q = "\"";
+  for (char c : s) q += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return q + "\"";
+}
+
+ReportFiles write_sweep_report(const SweepSpec& spec, const std::vector<DesignPoint>& design,
+                               const std::vector<std::optional<nlohmann::ordered_json>>& results,
+                               const std::filesystem::path& out, const ReportOptions& options) {
+  ReportFiles files;
+  files.csv = out / "results.csv";
+  files.json = out / "results.json";
+  files.html = out / "report.html";
+  const auto columns = metric_columns(spec);
+  std::vector<std::string> roi_names;
+  for (auto& r : spec.rois) roi_names.push_back(r.name);
+  std::vector<const nlohmann::ordered_json*> done;
+  for (auto& r : results)
+    if (r) done.push_back(&*r);
+
+  // ---- CSV and JSON
+  {
+    std::ostringstream csv;
+    csv << "index,key";
+    for (auto& p : spec.parameters) csv << "," << p.name;
+    csv << ",spp,relative_noise,render_seconds,saturated_fraction";
+    for (auto& c : columns) csv << "," << c;
+    csv << "\n";
+    nlohmann::ordered_json arr = nlohmann::ordered_json::array();
+    for (const auto* r : done) {
+      csv << (*r)["index"].get<int>() << "," << (*r)["key"].get<std::string>();
+      for (auto& p : spec.parameters) csv << "," << csv_field((*r)["parameters"][p.name]);
+      csv << "," << csv_field((*r)["render"]["spp"]) << "," << csv_field((*r)["render"]["relative_noise"]) << ","
+          << csv_field((*r)["render"]["seconds"]) << "," << csv_field((*r)["camera"]["saturated_fraction"]);
+      for (auto& c : columns) csv << "," << csv_field(metric(*r, c));
+      csv << "\n";
+      nlohmann::ordered_json o;
+      for (const char* k : {"index", "key", "label", "parameters", "metrics", "render", "camera", "led_band_nm", "warnings"})
+        if (r->contains(k)) o[k] = (*r)[k];
+      arr.push_back(o);
+    }
+    write_file_atomic(files.csv, csv.str());
+    write_file_atomic(files.json, arr.dump(1) + "\n");
+  }
+
+  // ---- HTML
+  std::ostringstream h;
+  int plot_id = 0;
+  auto add_plot = [&](const VectorPlot& p) {
+    h << inline_svg(p, std::string("p").append(std::to_string(plot_id)).append("_"));
+    ++plot_id;
+  };
+  h << "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>oralfluor sweep " << html_escape(spec.name)
+    << "</title><style>" << kStyle << "</style></head><body>\n";
+  h << "<h1>Sweep &ldquo;" << html_escape(spec.name) << "&rdquo;</h1>\n";
+  if (!spec.description.empty()) h << "<p class=\"note\">" << html_escape(spec.description) << "</p>\n";
+  h << "<p>" << done.size() << " of " << design.size() << " design points finished"
+    << (done.size() < design.size() ? " (the rest are missing from this report; run the sweep again to finish them)" : "")
+    << ". Scene <code>" << html_escape(spec.scene.string()) << "</code>, camera <code>" << html_escape(spec.camera.string())
+    << "</code>, " << (spec.design.type == DesignSpec::Type::kGrid ? "full grid" : "Latin hypercube") << ". Data: <a href=\"results.csv\">results.csv</a>, "
+    << "<a href=\"results.json\">results.json</a>. Plots rendered: <span id=\"plots-rendered\">0</span>.</p>\n";
+
+  // Points table.
+  const std::vector<std::string> table_metrics = {"irr_cv", "irr_p5_p95", "r_std", "g_std", "ellipse_area", "share_leak", "snr_G"};
+  const std::string first_roi = spec.rois.empty() ? "" : spec.rois.front().name;
+  h << "<h2 id=\"points\">Points</h2>\n<table class=\"points\"><tr><th>#</th><th>preview</th>";
+  for (auto& p : spec.parameters) h << "<th>" << html_escape(p.name) << "</th>";
+  for (auto& m : table_metrics) h << "<th>" << html_escape(first_roi + "." + m) << "</th>";
+  h << "<th>spp</th><th>noise</th></tr>\n";
+  for (const auto* r : done) {
+    h << "<tr><td>" << (*r)["index"].get<int>() << "</td><td><img alt=\"point " << (*r)["index"].get<int>()
+      << "\" src=\"data:image/png;base64," << r->value("thumbnail_png_base64", std::string()) << "\"></td>";
+    for (auto& p : spec.parameters) h << "<td>" << short_number((*r)["parameters"][p.name]) << "</td>";
+    for (auto& m : table_metrics) h << "<td>" << short_number(metric(*r, first_roi + "." + m)) << "</td>";
+    h << "<td>" << (*r)["render"]["spp"].get<int>() << "</td><td>" << short_number((*r)["render"]["relative_noise"]) << "</td></tr>\n";
+  }
+  h << "</table>\n";
+
+  // Metrics against parameters.
+  h << "<h2 id=\"metrics\">Metrics against parameters</h2>\n<p class=\"note\">One dot per finished point; the red line joins the "
+       "mean at each level of a numeric parameter (averaged over the other parameters); for named levels a red bar marks each level's mean. Metric names are defined in "
+       "docs/sweep-format.md.</p>\n";
+  std::error_code ec;
+  if (options.plot_files) std::filesystem::create_directories(out / "plots", ec);
+  for (auto& roi : spec.rois) {
+    h << "<h3>ROI " << html_escape(roi.name) << "</h3>\n<table class=\"grid\">\n";
+    for (auto& mname : spec.report.metrics) {
+      std::string col = roi.name + "." + mname;
+      h << "<tr>";
+      for (size_t pi = 0; pi < spec.parameters.size(); ++pi) {
+        const auto& par = spec.parameters[pi];
+        MetricPlotSpec ps;
+        ps.title = col;
+        ps.x_label = par.name;
+        bool numeric = par.numeric();
+        if (!numeric)
+          for (auto& v : par.values) ps.categories.push_back(value_text(v));
+        std::vector<MetricSample> samples;
+        for (size_t i = 0; i < results.size(); ++i) {
+          if (!results[i]) continue;
+          const auto& y = metric(*results[i], col);
+          if (!y.is_number()) continue;
+          MetricSample s;
+          s.level = design[i].level[pi];
+          s.x = numeric ? design[i].values[pi].get<double>() : double(s.level);
+          s.y = y.get<double>();
+          samples.push_back(s);
+        }
+        // Categorical axes get room for their labels.
+        int width = ps.categories.empty() ? 300 : std::max(300, 70 + 84 * int(ps.categories.size()));
+        VectorPlot p = metric_plot(ps, samples, width);
+        h << "<td>";
+        add_plot(p);
+        h << "</td>";
+        if (options.plot_files) {
+          auto stem = out / "plots" / (col + "__" + par.name);
+          p.write_svg(stem.string() + ".svg");
+          p.write_png(stem.string() + ".png");
+        }
+      }
+      h << "</tr>\n";
+    }
+    h << "</table>\n";
+  }
+
+  // Chromaticity per point.
+  ScatterStyle style;
+  style.noise_free = spec.report.scatter_noise_free;
+  for (size_t k = 0; k < roi_names.size(); ++k)
+    if (spec.report.scatter_rois.empty() ||
+        std::find(spec.report.scatter_rois.begin(), spec.report.scatter_rois.end(), roi_names[k]) != spec.report.scatter_rois.end()) {
+      style.rois.push_back(roi_names[k]);
+      style.color.push_back(k);
+    }
+  h << "<h2 id=\"chromaticity\">Chromaticity of each point</h2>\n<p class=\"note\">Cells (2x2 CFA) of each ROI in the (r, g) plane "
+    << (style.noise_free ? "from the noise-free expected electrons" : "from the raw")
+    << ", with each ROI's mean (+) and 95 % ellipse; dashed lines: tongue reflectance plus increasing "
+       "fluorophore concentration under this point's LED through its camera (black square: no fluorophore), as "
+       "<code>oralfluor chroma</code> draws them. All panels share one window.</p>\n<p class=\"legend\">";
+  for (size_t k = 0; k < style.rois.size(); ++k)
+    h << "<span>" << swatch(roi_color(style.color[k])) << "ROI " << html_escape(style.rois[k]) << "</span>";
+  if (!done.empty() && done.front()->contains("reference")) {
+    const auto& lines = (*done.front())["reference"]["lines"];
+    for (size_t i = 0; i < lines.size(); ++i)
+      h << "<span>" << swatch(line_color(i)) << html_escape(lines[i]["fluorophore"].get<std::string>()) << "</span>";
+  }
+  h << "</p>\n<div class=\"figs\">\n";
+  ChromaWindow win = common_chroma_window(done, style);
+  for (const auto* r : done) {
+    h << "<figure>";
+    VectorPlot cp = point_chroma_plot(*r, style, win);
+    add_plot(cp);
+    if (options.plot_files) {
+      const std::string idx = std::to_string((*r)["index"].get<int>());
+      auto stem = out / "plots" / ("chroma_" + idx);
+      cp.write_svg(stem.string() + ".svg");
+      cp.write_png(stem.string() + ".png");
+      for (const char* k : {"thumbnail", "roi"})
+        if (r->contains(std::string(k) + "_png_base64"))
+          write_file_atomic(out / "plots" / (std::string(k == std::string("roi") ? "rois_" : "preview_") + idx + ".png"),
+                            base64_decode((*r)[std::string(k) + "_png_base64"].get<std::string>()));
+    }
+    h << "<figcaption><img alt=\"\" style=\"float:right;width:96px\" src=\"data:image/png;base64,"
+      << r->value("thumbnail_png_base64", std::string()) << "\">";
+    if (r->contains("roi_png_base64"))
+      h << "<img alt=\"ROIs\" title=\"ROIs\" style=\"float:right;width:96px;margin-right:4px\" src=\"data:image/png;base64,"
+        << (*r)["roi_png_base64"].get<std::string>() << "\">";
+    h << html_escape(r->value("label", std::string())) << "</figcaption></figure>\n";
+  }
+  h << "</div>\n";
+  // Count plots that were laid out with a size and hold drawing: proves the page rendered them.
+  h << R"(<script>
+(function () {
+  function count() {
+    var n = 0;
+    document.querySelectorAll('svg.plot').forEach(function (s) {
+      var b = s.getBoundingClientRect();
+      if (b.width > 0 && b.height > 0 && s.querySelector('circle, polyline, polygon, text')) n++;
+    });
+    var el = document.getElementById('plots-rendered');
+    el.textContent = String(n);
+    el.setAttribute('data-count', String(n));
+  }
+  count();
+  window.addEventListener('load', count);
+})();
+</script>
+)";
+  h << "</body></html>\n";
+  write_file_atomic(files.html, h.str());
+  files.plots = plot_id;
+  return files;
+}
+
+}  // namespace ofl

@@ -1,0 +1,51 @@
+// Running a sweep: which points this process computes, in what order, and where results go.
+//  - The design (sweep_design.h) is the same on every process. `--shard i/N` keeps the points
+//    whose design index is i mod N (for Slurm job arrays: one shard per array task).
+//  - Points whose result file already exists (sweep_store.h) are skipped, so a killed sweep
+//    finishes only the missing points when run again.
+//  - Under mpirun the points left to do are dealt round-robin over the ranks; every rank renders,
+//    workers send each finished result to rank 0 as JSON over MPI (no shared filesystem needed),
+//    rank 0 stores them as they arrive and writes the report.
+//  - SIGINT/SIGTERM: the point being rendered is abandoned (nothing partial is stored), the report
+//    is written from what is finished, and the command exits with 130.
+#pragma once
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "renderer/sweep/sweep_spec.h"
+
+namespace ofl {
+
+struct SweepRunOptions {
+  std::filesystem::path out_dir = "sweep-out";
+  int shard = 0, shards = 1;   // --shard i/N
+  bool report_only = false;    // write the report from stored points, compute nothing
+  bool dry_run = false;        // list the design and what is done, compute nothing
+  bool render_progress = false;
+  bool plot_files = false;      // also write the metric plots as SVG + PNG files under plots/
+};
+
+struct SweepRunSummary {
+  int design_points = 0;     // in the whole design
+  int shard_points = 0;      // in this shard
+  int already_done = 0;      // of the shard's points, stored before this run
+  int computed = 0;          // stored by this run (all ranks)
+  int finished = 0;          // of the whole design, stored after this run
+  int ranks = 1;
+  bool interrupted = false;
+  std::filesystem::path out_dir, csv, json, html;
+  nlohmann::json to_json() const;
+};
+
+// Points of shard `shard` of `shards`: design indices i with i % shards == shard.
+std::vector<int> shard_indices(int points, int shard, int shards);
+// "i/N" -> (i, N) with 0 <= i < N; false when malformed.
+bool parse_shard(const std::string& s, int* shard, int* shards);
+
+// Throws InputError for bad input and Interrupted (after saving) on SIGINT.
+SweepRunSummary run_sweep(const SweepSpec& spec, const SweepRunOptions& options);
+
+}  // namespace ofl
