@@ -73,13 +73,6 @@ void VectorPlot::text(Point2 at, const std::string& s, double size, Rgba color, 
 
 // ---------------------------------------------------------------------------------------------- SVG
 
-namespace {
-std::string svg_color(const Rgba& c) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "#%02x%02x%02x", static_cast<int>(std::lround(c.r * 255)),
-                static_cast<int>(std::lround(c.g * 255)), static_cast<int>(std::lround(c.b * 255)));
-  return buf;
-}
 std::string svg_escape(const std::string& s) {
   std::string o;
   for (char ch : s) {
@@ -90,6 +83,14 @@ std::string svg_escape(const std::string& s) {
     else o += ch;
   }
   return o;
+}
+
+namespace {
+std::string svg_color(const Rgba& c) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "#%02x%02x%02x", static_cast<int>(std::lround(c.r * 255)),
+                static_cast<int>(std::lround(c.g * 255)), static_cast<int>(std::lround(c.b * 255)));
+  return buf;
 }
 std::string paint(const char* what, const Rgba& c) {
   if (c.a <= 0) return std::string(" ") + what + "=\"none\"";

@@ -10,6 +10,10 @@
 
 namespace ofl {
 
+// Escapes <, >, & and " for SVG and HTML text and attributes (used by every report writer).
+std::string svg_escape(const std::string& s);
+
+
 struct Rgba {
   float r = 0, g = 0, b = 0, a = 1;
 };

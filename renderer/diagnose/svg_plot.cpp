@@ -5,21 +5,13 @@
 #include <cstdio>
 #include <sstream>
 
+#include "renderer/analysis/vector_plot.h"
+
 namespace ofl {
 
 namespace {
 
-std::string esc(const std::string& s) {
-  std::string o;
-  for (char c : s) {
-    if (c == '<') o += "&lt;";
-    else if (c == '>') o += "&gt;";
-    else if (c == '&') o += "&amp;";
-    else if (c == '"') o += "&quot;";
-    else o += c;
-  }
-  return o;
-}
+std::string esc(const std::string& s) { return svg_escape(s); }
 
 std::string num(double v) {
   char b[32];

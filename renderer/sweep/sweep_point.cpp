@@ -154,15 +154,11 @@ nlohmann::json point_identity(const SweepSpec& spec, const DesignPoint& pt) {
   for (size_t i = 0; i < spec.parameters.size(); ++i) {
     const auto& p = spec.parameters[i];
     nlohmann::json j = {{"name", p.name}, {"value", pt.values[i]}};
+    describe_target(p, j);
     switch (p.kind) {
-      case ParamKind::kScenePath: j["scene"] = p.pointer; break;
-      case ParamKind::kCameraPath: j["camera"] = p.pointer; break;
-      case ParamKind::kGenerator:
-        j["generator"] = p.generator;
-        j["light"] = p.light;
-        j["filter"] = p.filter;
-        j["peak_nm"] = p.peak_nm;
-        break;
+      case ParamKind::kScenePath:
+      case ParamKind::kCameraPath:
+      case ParamKind::kGenerator: break;
       case ParamKind::kVariants:
         for (auto& v : p.variants)
           if (v.label == pt.values[i]) {

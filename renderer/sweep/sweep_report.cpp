@@ -5,6 +5,8 @@
 #include <cstdio>
 #include <sstream>
 
+#include "renderer/analysis/vector_plot.h"
+
 #include "renderer/core/error.h"
 #include "renderer/sweep/sweep_metrics.h"
 #include "renderer/sweep/sweep_plots.h"
@@ -14,17 +16,7 @@
 namespace ofl {
 namespace {
 
-std::string html_escape(const std::string& s) {
-  std::string o;
-  for (char c : s) {
-    if (c == '<') o += "&lt;";
-    else if (c == '>') o += "&gt;";
-    else if (c == '&') o += "&amp;";
-    else if (c == '"') o += "&quot;";
-    else o += c;
-  }
-  return o;
-}
+std::string html_escape(const std::string& s) { return svg_escape(s); }
 
 std::string number_text(double v) {
   char b[32];

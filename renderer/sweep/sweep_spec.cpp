@@ -292,20 +292,30 @@ SweepSpec parse_sweep_spec(const JsonFile& f) {
 
 SweepSpec load_sweep_spec(const std::filesystem::path& file) { return parse_sweep_spec(JsonFile::load(file)); }
 
+void describe_target(const SweepParameter& p, nlohmann::json& j) {
+  switch (p.kind) {
+    case ParamKind::kScenePath: j["scene"] = p.pointer; break;
+    case ParamKind::kCameraPath: j["camera"] = p.pointer; break;
+    case ParamKind::kGenerator:
+      j["generator"] = p.generator;
+      j["light"] = p.light;
+      j["filter"] = p.filter;
+      j["peak_nm"] = p.peak_nm;
+      break;
+    case ParamKind::kVariants: break;
+  }
+}
+
 nlohmann::json SweepSpec::to_json() const {
   auto opt = [](const auto& o) -> nlohmann::json { return o ? nlohmann::json(*o) : nlohmann::json(nullptr); };
   nlohmann::json params = nlohmann::json::array();
   for (auto& p : parameters) {
     nlohmann::json j = {{"name", p.name}, {"values", p.values}};
+    describe_target(p, j);
     switch (p.kind) {
-      case ParamKind::kScenePath: j["scene"] = p.pointer; break;
-      case ParamKind::kCameraPath: j["camera"] = p.pointer; break;
-      case ParamKind::kGenerator:
-        j["generator"] = p.generator;
-        j["light"] = p.light;
-        j["filter"] = p.filter;
-        j["peak_nm"] = p.peak_nm;
-        break;
+      case ParamKind::kScenePath:
+      case ParamKind::kCameraPath:
+      case ParamKind::kGenerator: break;
       case ParamKind::kVariants: {
         nlohmann::json vs = nlohmann::json::array();
         for (auto& v : p.variants) {

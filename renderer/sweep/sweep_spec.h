@@ -56,6 +56,11 @@ struct SweepParameter {
   int levels() const { return static_cast<int>(values.size()); }
 };
 
+// Adds to `j` what a scene-path, camera-path or generator parameter changes ("scene"/"camera"
+// pointer, or the generator with its light, filter and peak); variants are described by callers.
+void describe_target(const SweepParameter& p, nlohmann::json& j);
+
+
 // A texture looked up at the pixel's UV must lie strictly between `above` and `below`.
 struct TextureCondition {
   std::filesystem::path file;  // resolved against the sweep file
