@@ -96,7 +96,9 @@ TEST(Sampling, DiscreteDistribution) {
   for (size_t i = 0; i < w.size(); ++i) {
     exp[i] = n * w[i] / sum;
     EXPECT_DOUBLE_EQ(d.pdf(int(i)), w[i] / sum);
-    if (w[i] == 0) EXPECT_EQ(obs[i], 0);
+    if (w[i] == 0) {
+      EXPECT_EQ(obs[i], 0);
+    }
   }
   EXPECT_GT(test::chi_square(obs, exp).p_value, 1e-4);
 }
