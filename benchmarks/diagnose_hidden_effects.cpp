@@ -30,24 +30,6 @@ struct Tally {
   std::vector<double> abs_err;
 };
 
-double uncertainty_of(const DiagnoseProblem& p, const CauseResult& c, const std::string& name) {
-  auto& spec = p.candidates()[c.candidate];
-  for (size_t k = 0; k < spec.params.size(); ++k)
-    if (spec.params[k].name == name) return c.uncertainty[k];
-  for (auto& d : c.derived)
-    if (d.name == name) return d.uncertainty;
-  return NAN;
-}
-
-double param_of(const DiagnoseProblem& p, const CauseResult& c, const std::string& name) {
-  auto& spec = p.candidates()[c.candidate];
-  for (size_t k = 0; k < spec.params.size(); ++k)
-    if (spec.params[k].name == name) return c.theta[k];
-  for (auto& d : c.derived)
-    if (d.name == name) return d.value;
-  return NAN;
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -105,15 +87,15 @@ int main(int argc, char** argv) {
         if (dg.causes.size() == 1) ++t.only;
         bool ok = true;
         for (auto& [name, v] : truth.truth) {
-          double e = std::fabs(param_of(*p, dg.causes[0], name) - v);
+          double e = std::fabs(cause_estimate(*p, dg.causes[0], name).value - v);
           ok = ok && e <= stated_tolerance(eff, v);
           ++t.params;
-          if (e <= 2 * uncertainty_of(*p, dg.causes[0], name)) ++t.covered;
+          if (e <= 2 * cause_estimate(*p, dg.causes[0], name).uncertainty) ++t.covered;
         }
         if (ok) ++t.recovered;
         else {
           std::printf("    seed %d: %s", s, first.c_str());
-          for (auto& [name, v] : truth.truth) std::printf("  %s true %.4g est %.4g", name.c_str(), v, param_of(*p, dg.causes[0], name));
+          for (auto& [name, v] : truth.truth) std::printf("  %s true %.4g est %.4g", name.c_str(), v, cause_estimate(*p, dg.causes[0], name).value);
           std::printf("\n");
         }
       } else if (!eff.empty()) {

@@ -16,15 +16,6 @@ struct HiddenOutcome {
   bool params_ok = true;
 };
 
-inline double reported(const DiagnoseProblem& p, const CauseResult& c, const std::string& name) {
-  auto& spec = p.candidates()[c.candidate];
-  for (size_t k = 0; k < spec.params.size(); ++k)
-    if (spec.params[k].name == name) return c.theta[k];
-  for (auto& d : c.derived)
-    if (d.name == name) return d.value;
-  return NAN;
-}
-
 inline HiddenOutcome judge_outcome(const DiagnoseProblem& p, const Diagnosis& d, const SyntheticData& truth,
                                    const std::string& effect_name) {
   HiddenOutcome o;
@@ -33,7 +24,7 @@ inline HiddenOutcome judge_outcome(const DiagnoseProblem& p, const Diagnosis& d,
   o.detail = "hidden \"" + truth.effect_id + "\", named \"" + o.named + "\" (" + d.verdict + ")";
   if (!d.causes.empty() && o.named == truth.effect_id)
     for (auto& [name, v] : truth.truth) {
-      double est = reported(p, d.causes[0], name);
+      double est = cause_estimate(p, d.causes[0], name).value;
       double tol = stated_tolerance(effect_name, v);
       o.detail += "; " + name + " true " + std::to_string(v) + " estimated " + std::to_string(est) + " (tolerance " + std::to_string(tol) + ")";
       if (!(std::fabs(est - v) <= tol)) o.params_ok = false;

@@ -353,4 +353,13 @@ Diagnosis diagnose(const DiagnoseProblem& p, const SelectionOptions& o) {
   return dg;
 }
 
+CauseEstimate cause_estimate(const DiagnoseProblem& p, const CauseResult& c, const std::string& name) {
+  const auto& spec = p.candidates()[c.candidate];
+  for (size_t k = 0; k < spec.params.size(); ++k)
+    if (spec.params[k].name == name) return {c.theta[k], c.uncertainty[k]};
+  for (const auto& d : c.derived)
+    if (d.name == name) return {d.value, d.uncertainty};
+  return {};
+}
+
 }  // namespace ofl

@@ -17,6 +17,7 @@
 // against the noise (sqrt(gain - optimism) >= min_effect_to_noise * noise floor RMSE).
 // Otherwise: "no significant effect".
 #pragma once
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -115,6 +116,13 @@ struct Diagnosis {
 };
 
 Diagnosis diagnose(const DiagnoseProblem& p, const SelectionOptions& o);
+
+// What a cause reports for one of its parameters or derived quantities, found by name.
+struct CauseEstimate {
+  double value = NAN, uncertainty = NAN;
+};
+// NaN value and uncertainty when the cause has no parameter or derived quantity of that name.
+CauseEstimate cause_estimate(const DiagnoseProblem& p, const CauseResult& c, const std::string& name);
 
 // Held-out RMSE and variance explained of a CV run, before/after, over `items`.
 GroupGain group_gain(const DiagnoseProblem& p, const CvRun& before, const CvRun& after, const std::vector<int>& items,
