@@ -1,5 +1,7 @@
 #include "renderer/analysis/chroma_plot.h"
 
+#include "renderer/analysis/plot_axis.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -35,34 +37,18 @@ Box fit_box(Box b, double w, double h, double margin) {
   return {cr - dr / 2, cr + dr / 2, cg - dg / 2, cg + dg / 2};
 }
 
-double nice_step(double range, int target) {
-  double raw = range / target, p = std::pow(10.0, std::floor(std::log10(raw)));
-  for (double m : {1.0, 2.0, 2.5, 5.0, 10.0})
-    if (m * p >= raw) return m * p;
-  return 10 * p;
-}
-
-std::string fmt(double v, int decimals) {
-  if (std::fabs(v) < 0.5 * std::pow(10.0, -decimals)) v = 0.0;  // no "-0.0"
-  char b[32];
-  std::snprintf(b, sizeof b, "%.*f", decimals, v);
-  return b;
-}
-
 void draw_axes(VectorPlot& p, const Panel& pn, const std::string& title) {
   Rgba grid = rgb_hex(0xdddddd), axis = rgb_hex(0x333333), label = rgb_hex(0x222222);
-  double step = nice_step(std::max(pn.box.r1 - pn.box.r0, pn.box.g1 - pn.box.g0), 6);
-  int dec = std::max(0, static_cast<int>(-std::floor(std::log10(step) + 1e-9)));
-  if (step / std::pow(10.0, -dec) == 2.5) ++dec;
-  for (double r = std::ceil(pn.box.r0 / step) * step; r <= pn.box.r1; r += step) {
+  double step = nice_tick_step(std::max(pn.box.r1 - pn.box.r0, pn.box.g1 - pn.box.g0), 6);
+  for (double r : axis_ticks(pn.box.r0, pn.box.r1, step)) {
     auto a = pn.map(r, pn.box.g0), b = pn.map(r, pn.box.g1);
     p.polyline({a, b}, grid, 1);
-    p.text({a[0], a[1] + 16}, fmt(r, dec), 12, label, TextAnchor::kMiddle);
+    p.text({a[0], a[1] + 16}, tick_label(r, step), 12, label, TextAnchor::kMiddle);
   }
-  for (double g = std::ceil(pn.box.g0 / step) * step; g <= pn.box.g1; g += step) {
+  for (double g : axis_ticks(pn.box.g0, pn.box.g1, step)) {
     auto a = pn.map(pn.box.r0, g), b = pn.map(pn.box.r1, g);
     p.polyline({a, b}, grid, 1);
-    p.text({a[0] - 6, a[1] + 4}, fmt(g, dec), 12, label, TextAnchor::kEnd);
+    p.text({a[0] - 6, a[1] + 4}, tick_label(g, step), 12, label, TextAnchor::kEnd);
   }
   // r + g = 1 (no blue) bounds the possible chromaticities.
   p.clip(pn.clip());

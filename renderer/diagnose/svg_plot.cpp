@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <sstream>
 
+#include "renderer/analysis/plot_axis.h"
 #include "renderer/analysis/vector_plot.h"
 
 namespace ofl {
@@ -17,25 +18,6 @@ std::string num(double v) {
   char b[32];
   std::snprintf(b, sizeof b, "%.2f", v);
   return b;
-}
-
-std::string tick_label(double v, double step) {
-  char b[32];
-  if (std::fabs(v) < step * 1e-6) v = 0;
-  int dec = std::max(0, static_cast<int>(std::ceil(-std::log10(step) - 1e-9)));
-  if (std::fabs(v) >= 1e5 || (std::fabs(v) > 0 && std::fabs(v) < 1e-3 && dec > 4))
-    std::snprintf(b, sizeof b, "%.2g", v);
-  else
-    std::snprintf(b, sizeof b, "%.*f", std::min(dec, 6), v);
-  return b;
-}
-
-double nice_step(double range, int target) {
-  double raw = range / std::max(1, target);
-  double mag = std::pow(10.0, std::floor(std::log10(raw)));
-  double f = raw / mag;
-  double n = f < 1.5 ? 1 : f < 3 ? 2 : f < 7 ? 5 : 10;
-  return n * mag;
 }
 
 struct Frame {
@@ -88,13 +70,13 @@ void draw_plot(std::ostringstream& o, const Plot& p, double ox, double oy, doubl
   o << "<text x=\"" << num(ox + W / 2) << "\" y=\"" << num(oy + 20) << "\" text-anchor=\"middle\" font-size=\"14\">" << esc(p.title) << "</text>\n";
   o << "<rect x=\"" << num(f.x0) << "\" y=\"" << num(f.y0) << "\" width=\"" << num(f.w) << "\" height=\"" << num(f.h)
     << "\" fill=\"white\" stroke=\"#444\"/>\n";
-  double xs = nice_step(xmax - xmin, 6), ys = nice_step(ymax - ymin, 5);
-  for (double t = std::ceil(xmin / xs) * xs; t <= xmax + 1e-9 * xs; t += xs) {
+  double xs = nice_tick_step(xmax - xmin, 6), ys = nice_tick_step(ymax - ymin, 5);
+  for (double t : axis_ticks(xmin, xmax, xs)) {
     o << "<line x1=\"" << num(f.X(t)) << "\" y1=\"" << num(f.y0) << "\" x2=\"" << num(f.X(t)) << "\" y2=\"" << num(f.y0 + f.h)
       << "\" stroke=\"#e4e4e4\"/>\n";
     o << "<text x=\"" << num(f.X(t)) << "\" y=\"" << num(f.y0 + f.h + 16) << "\" text-anchor=\"middle\">" << tick_label(t, xs) << "</text>\n";
   }
-  for (double t = std::ceil(ymin / ys) * ys; t <= ymax + 1e-9 * ys; t += ys) {
+  for (double t : axis_ticks(ymin, ymax, ys)) {
     o << "<line x1=\"" << num(f.x0) << "\" y1=\"" << num(f.Y(t)) << "\" x2=\"" << num(f.x0 + f.w) << "\" y2=\"" << num(f.Y(t))
       << "\" stroke=\"#e4e4e4\"/>\n";
     o << "<text x=\"" << num(f.x0 - 6) << "\" y=\"" << num(f.Y(t) + 4) << "\" text-anchor=\"end\">" << tick_label(t, ys) << "</text>\n";
@@ -209,8 +191,8 @@ std::string svg_bars(const BarChart& b, double W, double H) {
   o << "<text x=\"" << num(W / 2) << "\" y=\"20\" text-anchor=\"middle\" font-size=\"14\">" << esc(b.title) << "</text>\n";
   o << "<rect x=\"" << num(f.x0) << "\" y=\"" << num(f.y0) << "\" width=\"" << num(f.w) << "\" height=\"" << num(f.h)
     << "\" fill=\"white\" stroke=\"#444\"/>\n";
-  double ys = nice_step(ymax - ymin, 5);
-  for (double t = std::ceil(ymin / ys) * ys; t <= ymax + 1e-9 * ys; t += ys) {
+  double ys = nice_tick_step(ymax - ymin, 5);
+  for (double t : axis_ticks(ymin, ymax, ys)) {
     o << "<line x1=\"" << num(f.x0) << "\" y1=\"" << num(f.Y(t)) << "\" x2=\"" << num(f.x0 + f.w) << "\" y2=\"" << num(f.Y(t))
       << "\" stroke=\"#e4e4e4\"/>\n";
     o << "<text x=\"" << num(f.x0 - 6) << "\" y=\"" << num(f.Y(t) + 4) << "\" text-anchor=\"end\">" << tick_label(t, ys) << "</text>\n";

@@ -1,5 +1,7 @@
 #include "renderer/sweep/sweep_plots.h"
 
+#include "renderer/analysis/plot_axis.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -12,27 +14,6 @@ namespace {
 const unsigned kRoiPalette[] = {0x1f77b4, 0xd62728, 0x2ca02c, 0x9467bd, 0x8c564b, 0x17becf};
 // Reference lines are dashed, in colours the ROIs do not use.
 const unsigned kLinePalette[] = {0xff7f0e, 0xe377c2, 0xbcbd22, 0x7f7f7f, 0x8c564b, 0x393b79, 0x637939, 0xad494a};
-
-double nice_step(double range, int target) {
-  if (!(range > 0)) return 1.0;
-  double raw = range / target, p = std::pow(10.0, std::floor(std::log10(raw)));
-  for (double m : {1.0, 2.0, 2.5, 5.0, 10.0})
-    if (m * p >= raw) return m * p;
-  return 10 * p;
-}
-
-std::string tick_text(double v, double step) {
-  if (std::fabs(v) < step * 1e-6) v = 0;
-  char b[32];
-  double a = std::fabs(v);
-  if (a != 0 && (a < 1e-3 || a >= 1e5)) std::snprintf(b, sizeof b, "%.2g", v);
-  else {
-    int dec = std::max(0, int(std::ceil(-std::log10(step) - 1e-9)));
-    if (std::fabs(step * std::pow(10.0, dec) - std::round(step * std::pow(10.0, dec))) > 1e-6) ++dec;
-    std::snprintf(b, sizeof b, "%.*f", std::min(dec, 6), v);
-  }
-  return b;
-}
 
 struct Frame {
   double x, y, w, h;  // pixel rectangle of the data area
@@ -59,11 +40,11 @@ void draw_frame(VectorPlot& p, const Frame& f, const std::string& title, const s
                 const std::vector<std::string>* categories = nullptr) {
   Rgba grid = rgb_hex(0xe3e3e3), axis = rgb_hex(0x333333), label = rgb_hex(0x222222);
   if (y_ticks) {
-    double st = nice_step(f.y1 - f.y0, 4);
-    for (double v = std::ceil(f.y0 / st) * st; v <= f.y1 + 1e-12; v += st) {
+    double st = nice_tick_step(f.y1 - f.y0, 4);
+    for (double v : axis_ticks(f.y0, f.y1, st)) {
       auto a = f.map(f.x0, v), b = f.map(f.x1, v);
       p.polyline({a, b}, grid, 1);
-      p.text({a[0] - 4, a[1] + 4}, tick_text(v, st), 10, label, TextAnchor::kEnd);
+      p.text({a[0] - 4, a[1] + 4}, tick_label(v, st), 10, label, TextAnchor::kEnd);
     }
   }
   if (categories) {
@@ -74,11 +55,11 @@ void draw_frame(VectorPlot& p, const Frame& f, const std::string& title, const s
       p.text({a[0], a[1] + 14}, t, 10, label, TextAnchor::kMiddle);
     }
   } else {
-    double st = nice_step(f.x1 - f.x0, 4);
-    for (double v = std::ceil(f.x0 / st) * st; v <= f.x1 + 1e-12; v += st) {
+    double st = nice_tick_step(f.x1 - f.x0, 4);
+    for (double v : axis_ticks(f.x0, f.x1, st)) {
       auto a = f.map(v, f.y0), b = f.map(v, f.y1);
       p.polyline({a, b}, grid, 1);
-      p.text({a[0], a[1] + 14}, tick_text(v, st), 10, label, TextAnchor::kMiddle);
+      p.text({a[0], a[1] + 14}, tick_label(v, st), 10, label, TextAnchor::kMiddle);
     }
   }
   p.rect(f.x, f.y, f.w, f.h, {0, 0, 0, 0}, axis, 1);
