@@ -26,6 +26,9 @@ int load_texture(const JsonNode& n, MaterialContext& ctx) {
 
 std::vector<FluorophoreLayer> parse_fluorophore_layers(const JsonNode& list, MaterialContext& ctx) {
   std::vector<FluorophoreLayer> out;
+  if (list.size() > size_t(kMaxFluorophoresPerMaterial))
+    list.fail("has " + std::to_string(list.size()) + " fluorophores; a material may have at most " +
+              std::to_string(kMaxFluorophoresPerMaterial));
   for (size_t i = 0; i < list.size(); ++i) {
     JsonNode f = list.at(i);
     f.check_keys({"name", "eem", "fluorophore", "concentration", "texture", "normalise"});

@@ -10,6 +10,10 @@
 
 namespace ofl {
 
+// The renderer keeps a surface point's concentrations in a fixed array of this size; a material
+// with more fluorophores is an input error (materials/fluorescent.cpp).
+constexpr int kMaxFluorophoresPerMaterial = 16;
+
 // One fluorophore of a material: which EEM (index into Scene::eems), its concentration (the
 // photon albedo at the fluorophore's excitation peak for library entries) and an optional
 // grayscale texture that multiplies the concentration (index into Scene::textures).

@@ -77,6 +77,28 @@ TEST(Eem, MaterialThatCreatesEnergyIsRejected) {
   }
 }
 
+TEST(Eem, MoreFluorophoresThanTheRendererHoldsIsAnInputError) {
+  // The renderer keeps a surface point's concentrations in a fixed array; one layer more than it
+  // holds must be refused at load (naming the list), never silently dropped at render time.
+  auto scene = [](int layers) {
+    nlohmann::json list = nlohmann::json::array();
+    for (int i = 0; i < layers; ++i) list.push_back({{"name", "FAD"}, {"concentration", 0.001}});
+    nlohmann::json j = {{"format", "oralfluor-scene"}, {"version", 1},
+                        {"camera", {{"position", {0, 0, 1}}, {"look_at", {0, 0, 0}}, {"up", {0, 1, 0}}, {"fov_deg", 20}, {"resolution", {4, 4}}}},
+                        {"materials", {{"t", {{"type", "fluorescent"}, {"reflectance", 0.5}, {"fluorophores", list}}}}},
+                        {"geometry", {{{"type", "sphere"}, {"center", {0, 0, 0}}, {"radius", 0.1}, {"material", "t"}}}}};
+    return JsonFile::from(j, "many.json");
+  };
+  EXPECT_NO_THROW(load_scene(scene(kMaxFluorophoresPerMaterial)));
+  try {
+    load_scene(scene(kMaxFluorophoresPerMaterial + 1));
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.field(), "/materials/t/fluorophores");
+    EXPECT_NE(std::string(e.what()).find("at most"), std::string::npos) << e.what();
+  }
+}
+
 TEST(Eem, PairNormalisationAndStokes) {
   WavelengthGrid g{350, 800, 5};
   GridEem t = load_fluorophore("teeth", g);

@@ -13,8 +13,8 @@ namespace ofl {
 struct LocalMaterial {
   const MaterialTables* m = nullptr;
   float rscale = 1;  // reflectance texture factor
-  int nf = 0;        // fluorophores in use (at most 16)
-  float conc[16] = {};
+  int nf = 0;        // fluorophores in use
+  float conc[kMaxFluorophoresPerMaterial] = {};
 };
 
 // Total fluorescent in-scatter F(em) = sum_j c_j F_j(em).

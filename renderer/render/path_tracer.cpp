@@ -117,7 +117,7 @@ double PathTracer::sample_pixel(int x, int y, Rng& rng, double* bands, RayCounts
 
     LocalMaterial lm{&mt};
     if (mt.reflectance_texture >= 0) lm.rscale = scene_.textures[mt.reflectance_texture].lookup(sp.uv.x, sp.uv.y);
-    lm.nf = std::min<int>(int(mt.fluorophores.size()), 16);
+    lm.nf = std::min<int>(int(mt.fluorophores.size()), kMaxFluorophoresPerMaterial);  // more is refused at load
     for (int j = 0; j < lm.nf; ++j) {
       const auto& f = mt.fluorophores[j];
       float factor = 1.0f;
@@ -224,7 +224,8 @@ double PathTracer::sample_pixel(int x, int y, Rng& rng, double* bands, RayCounts
       int b = wl_base[k];
       double a = fs;
       double r = kd * w_base[k] * mt.reflectance[b] * lm.rscale;
-      double f = lm.nf ? kd * w_base[k] * fluor_total(lm, b) : 0.0;
+      const float f_em = lm.nf ? fluor_total(lm, b) : 0.0f;
+      double f = kd * w_base[k] * f_em;
       double tot = a + r + f;
       if (!(tot > 0)) { beta[k] = 0; continue; }
       double u = rng.next_double() * tot;
@@ -233,7 +234,7 @@ double PathTracer::sample_pixel(int x, int y, Rng& rng, double* bands, RayCounts
         wl[k] = b;
         fl[k] = fl_base[k];
         if (u >= a + r) {
-          wl[k] = sample_excitation(lm, b, fluor_total(lm, b), rng.next_float(), n);
+          wl[k] = sample_excitation(lm, b, f_em, rng.next_float(), n);
           fl[k] = true;
           rerad_prev[k] = true;
         }
