@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "renderer/core/error.h"
+#include "renderer/image/image_file.h"
 
 namespace ofl {
 
@@ -378,11 +379,7 @@ bool VectorPlot::write_png(const std::filesystem::path& file) const {
   std::vector<unsigned char> px(cv.rgb.size());
   for (size_t i = 0; i < px.size(); ++i)
     px[i] = static_cast<unsigned char>(std::lround(255.0 * std::clamp(cv.rgb[i], 0.0f, 1.0f)));
-  auto out = OIIO::ImageOutput::create(file.string());
-  if (!out) throw InputError(file.string(), "", "cannot create PNG writer: " + OIIO::geterror());
-  OIIO::ImageSpec ps(width_, height_, 3, OIIO::TypeDesc::UINT8);
-  if (!out->open(file.string(), ps) || !out->write_image(OIIO::TypeDesc::UINT8, px.data()) || !out->close())
-    throw InputError(file.string(), "", "cannot write PNG: " + out->geterror());
+  write_image_file(file, OIIO::ImageSpec(width_, height_, 3, OIIO::TypeDesc::UINT8), px.data());
   return text_ok;
 }
 

@@ -1,13 +1,12 @@
 #include "renderer/camera/camera_pipeline.h"
 
-#include <OpenImageIO/imageio.h>
-
 #include <algorithm>
 #include <cstdlib>
 #include <sstream>
 
 #include "renderer/camera/camera_color.h"
 #include "renderer/core/error.h"
+#include "renderer/image/image_file.h"
 
 namespace ofl {
 
@@ -119,8 +118,6 @@ CameraRun simulate_camera(const SpectralImage& img, const CameraDescription& cam
 }
 
 void write_electrons_exr(const std::filesystem::path& file, const ExpectedSignal& e, const nlohmann::json& attributes) {
-  auto out = OIIO::ImageOutput::create(file.string());
-  if (!out) throw InputError(file.string(), "", "cannot create EXR writer: " + OIIO::geterror());
   OIIO::ImageSpec spec(e.width, e.height, 4, OIIO::TypeDesc::FLOAT);
   spec.channelnames = {"R", "G", "B", "mosaic"};
   spec.attribute("compression", "zip");
@@ -135,8 +132,7 @@ void write_electrons_exr(const std::filesystem::path& file, const ExpectedSignal
     for (int c = 0; c < 3; ++c) px[i * 4 + c] = e.channel_e[i * 3 + c];
     px[i * 4 + 3] = static_cast<float>(e.mosaic_e[i] + e.dark_e);
   }
-  if (!out->open(file.string(), spec) || !out->write_image(OIIO::TypeDesc::FLOAT, px.data()) || !out->close())
-    throw InputError(file.string(), "", "cannot write EXR: " + out->geterror());
+  write_image_file(file, spec, px.data());
 }
 
 CameraOutputs write_camera_outputs(const CameraRun& run, const CameraDescription& cam, const CameraRunOptions& opt,

@@ -1,13 +1,12 @@
 #include "renderer/camera/raw_writer.h"
 
-#include <OpenImageIO/imageio.h>
-
 #include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <fstream>
 
 #include "renderer/core/error.h"
+#include "renderer/image/image_file.h"
 
 namespace ofl {
 
@@ -67,8 +66,6 @@ std::filesystem::path sidecar_path(const std::filesystem::path& tiff) {
 }
 
 void write_raw_tiff(const std::filesystem::path& file, const std::vector<uint16_t>& dn, const RawMetadata& m) {
-  auto out = OIIO::ImageOutput::create(file.string());
-  if (!out) throw InputError(file.string(), "", "cannot create TIFF writer: " + OIIO::geterror());
   OIIO::ImageSpec spec(m.width, m.height, 1, OIIO::TypeDesc::UINT16);
   spec.channelnames = {"Y"};
   spec.attribute("compression", "zip");
@@ -77,8 +74,7 @@ void write_raw_tiff(const std::filesystem::path& file, const std::vector<uint16_
   spec.attribute("Make", "oralfluor");
   spec.attribute("Model", m.camera_name);
   spec.attribute("Software", "oralfluor camera");
-  if (!out->open(file.string(), spec) || !out->write_image(OIIO::TypeDesc::UINT16, dn.data()) || !out->close())
-    throw InputError(file.string(), "", "cannot write TIFF: " + out->geterror());
+  write_image_file(file, spec, dn.data());
 }
 
 void write_raw_sidecar(const std::filesystem::path& file, const RawMetadata& m) {

@@ -1,11 +1,9 @@
 #include "renderer/image/png_writer.h"
 
-#include <OpenImageIO/imageio.h>
-
 #include <algorithm>
 #include <cmath>
 
-#include "renderer/core/error.h"
+#include "renderer/image/image_file.h"
 #include "renderer/spectral/color.h"
 
 namespace ofl {
@@ -13,12 +11,9 @@ namespace ofl {
 void write_srgb_png(const std::filesystem::path& file, int w, int h, const std::vector<float>& rgb, double exposure) {
   std::vector<unsigned char> px(static_cast<size_t>(w) * h * 3);
   for (size_t i = 0; i < px.size(); ++i) px[i] = static_cast<unsigned char>(std::lround(255.0 * srgb_encode(rgb[i] * exposure)));
-  auto out = OIIO::ImageOutput::create(file.string());
-  if (!out) throw InputError(file.string(), "", "cannot create PNG writer: " + OIIO::geterror());
   OIIO::ImageSpec spec(w, h, 3, OIIO::TypeDesc::UINT8);
   spec.attribute("oiio:ColorSpace", "sRGB");
-  if (!out->open(file.string(), spec) || !out->write_image(OIIO::TypeDesc::UINT8, px.data()) || !out->close())
-    throw InputError(file.string(), "", "cannot write PNG: " + out->geterror());
+  write_image_file(file, spec, px.data());
 }
 
 double auto_exposure(const std::vector<float>& rgb, double percentile, double target) {

@@ -1,7 +1,5 @@
 #include "renderer/mesh/mesh_preview.h"
 
-#include <OpenImageIO/imageio.h>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -10,6 +8,7 @@
 #include <glm/geometric.hpp>
 
 #include "renderer/core/error.h"
+#include "renderer/image/image_file.h"
 #include "renderer/mesh/gltf_writer.h"
 
 namespace ofl {
@@ -61,17 +60,12 @@ double UvOverlay::sample(double u, double v) const {
 }
 
 UvOverlay read_overlay(const std::string& file) {
-  auto in = OIIO::ImageInput::open(file);
-  if (!in) throw InputError(file, "", "cannot read image: " + OIIO::geterror());
-  const auto& spec = in->spec();
-  std::vector<float> px(static_cast<size_t>(spec.width) * spec.height * spec.nchannels);
-  if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, px.data()))
-    throw InputError(file, "", "cannot read image: " + in->geterror());
+  FloatImage im = read_image_file(file);
   UvOverlay o;
-  o.width = spec.width;
-  o.height = spec.height;
+  o.width = im.width;
+  o.height = im.height;
   o.value.resize(static_cast<size_t>(o.width) * o.height);
-  for (size_t i = 0; i < o.value.size(); ++i) o.value[i] = px[i * spec.nchannels];
+  for (size_t i = 0; i < o.value.size(); ++i) o.value[i] = im.pixels[i * im.channels];
   return o;
 }
 

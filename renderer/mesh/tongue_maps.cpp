@@ -1,7 +1,5 @@
 #include "renderer/mesh/tongue_maps.h"
 
-#include <OpenImageIO/imageio.h>
-
 #include <algorithm>
 #include <cmath>
 #include <functional>
@@ -9,6 +7,7 @@
 #include <glm/geometric.hpp>
 
 #include "renderer/core/error.h"
+#include "renderer/image/image_file.h"
 #include "renderer/mesh/mesh_measure.h"
 
 namespace ofl {
@@ -172,11 +171,7 @@ void write_gray16_png(const std::filesystem::path& file, const UvMap& map) {
     px[i] = static_cast<uint16_t>(std::lround(65535.0 * std::clamp(static_cast<double>(map.value[i]), 0.0, 1.0)));
   std::error_code ec;
   if (file.has_parent_path()) std::filesystem::create_directories(file.parent_path(), ec);
-  auto out = OIIO::ImageOutput::create(file.string());
-  if (!out) throw InputError(file.string(), "", "cannot create PNG writer: " + OIIO::geterror());
-  OIIO::ImageSpec spec(map.size, map.size, 1, OIIO::TypeDesc::UINT16);
-  if (!out->open(file.string(), spec) || !out->write_image(OIIO::TypeDesc::UINT16, px.data()) || !out->close())
-    throw InputError(file.string(), "", "cannot write PNG: " + out->geterror());
+  write_image_file(file, OIIO::ImageSpec(map.size, map.size, 1, OIIO::TypeDesc::UINT16), px.data());
 }
 
 void write_uv_layout_png(const std::filesystem::path& file, const TongueMaps& maps) {
@@ -192,11 +187,7 @@ void write_uv_layout_png(const std::filesystem::path& file, const TongueMaps& ma
     px[i * 3 + 1] = static_cast<uint8_t>(std::lround(255 * std::clamp(g, 0.0, 1.0)));
     px[i * 3 + 2] = static_cast<uint8_t>(std::lround(255 * std::clamp(bl, 0.0, 1.0)));
   }
-  auto out = OIIO::ImageOutput::create(file.string());
-  if (!out) throw InputError(file.string(), "", "cannot create PNG writer: " + OIIO::geterror());
-  OIIO::ImageSpec spec(s, s, 3, OIIO::TypeDesc::UINT8);
-  if (!out->open(file.string(), spec) || !out->write_image(OIIO::TypeDesc::UINT8, px.data()) || !out->close())
-    throw InputError(file.string(), "", "cannot write PNG: " + out->geterror());
+  write_image_file(file, OIIO::ImageSpec(s, s, 3, OIIO::TypeDesc::UINT8), px.data());
 }
 
 }  // namespace ofl

@@ -1,10 +1,9 @@
 #include "renderer/scene/texture.h"
 
-#include <OpenImageIO/imageio.h>
-
 #include <cmath>
 
 #include "renderer/core/error.h"
+#include "renderer/image/image_file.h"
 
 namespace ofl {
 
@@ -23,19 +22,13 @@ float Texture::lookup(float u, float v) const {
 }
 
 Texture read_texture(const std::filesystem::path& file) {
-  std::error_code ec;
-  if (!std::filesystem::is_regular_file(file, ec)) throw InputError(file.string(), "", "texture file not found");
-  auto in = OIIO::ImageInput::open(file.string());
-  if (!in) throw InputError(file.string(), "", "cannot read texture: " + OIIO::geterror());
-  const OIIO::ImageSpec& spec = in->spec();
+  FloatImage im = read_image_file(file);
   Texture t;
   t.file = file.string();
-  t.width = spec.width;
-  t.height = spec.height;
-  int nc = spec.nchannels;
-  std::vector<float> px(static_cast<size_t>(t.width) * t.height * nc);
-  if (!in->read_image(0, 0, 0, nc, OIIO::TypeDesc::FLOAT, px.data()))
-    throw InputError(file.string(), "", "cannot read texture pixels: " + in->geterror());
+  t.width = im.width;
+  t.height = im.height;
+  const int nc = im.channels;
+  const std::vector<float>& px = im.pixels;
   t.texels.resize(static_cast<size_t>(t.width) * t.height);
   for (size_t i = 0; i < t.texels.size(); ++i) {
     float v = nc >= 3 ? 0.2126f * px[i * nc] + 0.7152f * px[i * nc + 1] + 0.0722f * px[i * nc + 2] : px[i * nc];

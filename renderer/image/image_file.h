@@ -1,0 +1,24 @@
+// Reading and writing ordinary image files (PNG, TIFF, EXR, ...) through OpenImageIO, with the
+// project's error convention: any failure is an InputError naming the file. The spectral EXR
+// layout has its own reader/writer (spectral_exr.h); this is for everything else.
+#pragma once
+#include <OpenImageIO/imageio.h>
+
+#include <filesystem>
+#include <vector>
+
+namespace ofl {
+
+// Writes interleaved pixels of `spec.format` with `spec.nchannels` per pixel (the format follows
+// the file's extension). `spec` carries any metadata attributes.
+void write_image_file(const std::filesystem::path& file, const OIIO::ImageSpec& spec, const void* pixels);
+
+// A whole image as interleaved floats.
+struct FloatImage {
+  int width = 0, height = 0, channels = 0;
+  std::vector<float> pixels;
+};
+// Reads the first subimage; a missing or unreadable file is an InputError naming it.
+FloatImage read_image_file(const std::filesystem::path& file);
+
+}  // namespace ofl
