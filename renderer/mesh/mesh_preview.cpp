@@ -10,6 +10,7 @@
 #include "renderer/core/error.h"
 #include "renderer/image/image_file.h"
 #include "renderer/mesh/gltf_writer.h"
+#include "renderer/mesh/raster_triangle.h"
 
 namespace ofl {
 
@@ -154,57 +155,46 @@ std::vector<float> render_preview(const std::vector<TriangleMesh>& meshes, Previ
       glm::dvec3 P[3] = {glm::dvec3(m.positions[id[0]]), glm::dvec3(m.positions[id[1]]), glm::dvec3(m.positions[id[2]])};
       Projected s[3];
       if (!project(P[0], s[0]) || !project(P[1], s[1]) || !project(P[2], s[2])) continue;
-      double area = (s[1].x - s[0].x) * (s[2].y - s[0].y) - (s[1].y - s[0].y) * (s[2].x - s[0].x);
-      if (std::abs(area) < 1e-12) continue;
       glm::dvec3 ng = glm::cross(P[1] - P[0], P[2] - P[0]);
-      int x0 = std::max(0, static_cast<int>(std::floor(std::min({s[0].x, s[1].x, s[2].x}))));
-      int x1 = std::min(W - 1, static_cast<int>(std::ceil(std::max({s[0].x, s[1].x, s[2].x}))));
-      int y0 = std::max(0, static_cast<int>(std::floor(std::min({s[0].y, s[1].y, s[2].y}))));
-      int y1 = std::min(H - 1, static_cast<int>(std::ceil(std::max({s[0].y, s[1].y, s[2].y}))));
-      for (int py = y0; py <= y1; ++py)
-        for (int px = x0; px <= x1; ++px) {
-          double qx = px + 0.5, qy = py + 0.5;
-          double l0 = ((s[1].x - qx) * (s[2].y - qy) - (s[1].y - qy) * (s[2].x - qx)) / area;
-          double l1 = ((s[2].x - qx) * (s[0].y - qy) - (s[2].y - qy) * (s[0].x - qx)) / area;
-          double l2 = 1 - l0 - l1;
-          if (l0 < -1e-9 || l1 < -1e-9 || l2 < -1e-9) continue;  // tolerance: no cracks on shared edges
-          double w0 = l0, w1 = l1, w2 = l2;
-          if (cam.perspective) {  // perspective-correct weights
-            w0 /= s[0].z; w1 /= s[1].z; w2 /= s[2].z;
-            double sum = w0 + w1 + w2;
-            w0 /= sum; w1 /= sum; w2 /= sum;
-          }
-          double z = w0 * s[0].z + w1 * s[1].z + w2 * s[2].z;
-          size_t pix = static_cast<size_t>(py) * W + px;
-          if (z >= depth[pix]) continue;
-          glm::dvec3 wp = w0 * P[0] + w1 * P[1] + w2 * P[2];
-          if (opt.clip.axis >= 0) {
-            double c = wp[opt.clip.axis];
-            if (opt.clip.keep_below ? c > opt.clip.value : c < opt.clip.value) continue;
-          }
-          depth[pix] = z;
-          glm::dvec3 view = cam.perspective ? glm::normalize(cam.eye - wp) : -f;
-          bool front = glm::dot(ng, view) > 0;
-          glm::dvec3 n = ng;
-          if (!m.normals.empty())
-            n = w0 * glm::dvec3(m.normals[id[0]]) + w1 * glm::dvec3(m.normals[id[1]]) + w2 * glm::dvec3(m.normals[id[2]]);
-          double nl = glm::length(n);
-          n = nl > 0 ? n / nl : glm::normalize(ng);
-          glm::dvec3 col = base;
-          if (!overlays.empty()) {
-            glm::dvec2 uv = w0 * glm::dvec2(m.uvs[id[0]]) + w1 * glm::dvec2(m.uvs[id[1]]) + w2 * glm::dvec2(m.uvs[id[2]]);
-            for (const UvOverlay* o : overlays) {
-              double a = std::clamp(o->sample(uv.x, uv.y), 0.0, 1.0);
-              col = (1 - a) * col + a * o->color;
-            }
-          }
-          double shade = 0.12 + 0.88 * std::abs(glm::dot(n, view));
-          if (!front) col = 0.5 * (0.4 * col + glm::dvec3(0.1, 0.2, 0.6));
-          col *= shade;
-          rgb[pix * 3] = static_cast<float>(col.x);
-          rgb[pix * 3 + 1] = static_cast<float>(col.y);
-          rgb[pix * 3 + 2] = static_cast<float>(col.z);
+      auto shade_pixel = [&](int px, int py, double l0, double l1, double l2) {
+        double w0 = l0, w1 = l1, w2 = l2;
+        if (cam.perspective) {  // perspective-correct weights
+          w0 /= s[0].z; w1 /= s[1].z; w2 /= s[2].z;
+          double sum = w0 + w1 + w2;
+          w0 /= sum; w1 /= sum; w2 /= sum;
         }
+        double z = w0 * s[0].z + w1 * s[1].z + w2 * s[2].z;
+        size_t pix = static_cast<size_t>(py) * W + px;
+        if (z >= depth[pix]) return;
+        glm::dvec3 wp = w0 * P[0] + w1 * P[1] + w2 * P[2];
+        if (opt.clip.axis >= 0) {
+          double c = wp[opt.clip.axis];
+          if (opt.clip.keep_below ? c > opt.clip.value : c < opt.clip.value) return;
+        }
+        depth[pix] = z;
+        glm::dvec3 view = cam.perspective ? glm::normalize(cam.eye - wp) : -f;
+        bool front = glm::dot(ng, view) > 0;
+        glm::dvec3 n = ng;
+        if (!m.normals.empty())
+          n = w0 * glm::dvec3(m.normals[id[0]]) + w1 * glm::dvec3(m.normals[id[1]]) + w2 * glm::dvec3(m.normals[id[2]]);
+        double nl = glm::length(n);
+        n = nl > 0 ? n / nl : glm::normalize(ng);
+        glm::dvec3 col = base;
+        if (!overlays.empty()) {
+          glm::dvec2 uv = w0 * glm::dvec2(m.uvs[id[0]]) + w1 * glm::dvec2(m.uvs[id[1]]) + w2 * glm::dvec2(m.uvs[id[2]]);
+          for (const UvOverlay* o : overlays) {
+            double a = std::clamp(o->sample(uv.x, uv.y), 0.0, 1.0);
+            col = (1 - a) * col + a * o->color;
+          }
+        }
+        double shade = 0.12 + 0.88 * std::abs(glm::dot(n, view));
+        if (!front) col = 0.5 * (0.4 * col + glm::dvec3(0.1, 0.2, 0.6));
+        col *= shade;
+        rgb[pix * 3] = static_cast<float>(col.x);
+        rgb[pix * 3 + 1] = static_cast<float>(col.y);
+        rgb[pix * 3 + 2] = static_cast<float>(col.z);
+      };
+      raster_triangle({s[0].x, s[0].y}, {s[1].x, s[1].y}, {s[2].x, s[2].y}, W, H, shade_pixel, 1e-12);
     }
   }
   return rgb;

@@ -9,6 +9,7 @@
 #include "renderer/core/error.h"
 #include "renderer/image/image_file.h"
 #include "renderer/mesh/mesh_measure.h"
+#include "renderer/mesh/raster_triangle.h"
 
 namespace ofl {
 namespace {
@@ -25,26 +26,14 @@ void rasterise_uv(const TriangleMesh& m, int size,
     uint32_t id[3] = {m.indices[t], m.indices[t + 1], m.indices[t + 2]};
     glm::dvec2 q[3];
     for (int k = 0; k < 3; ++k) q[k] = glm::dvec2(m.uvs[id[k]]) * static_cast<double>(size);
-    double area = (q[1].x - q[0].x) * (q[2].y - q[0].y) - (q[1].y - q[0].y) * (q[2].x - q[0].x);
-    if (std::abs(area) < 1e-14) continue;
-    int x0 = std::max(0, static_cast<int>(std::floor(std::min({q[0].x, q[1].x, q[2].x}))));
-    int x1 = std::min(size - 1, static_cast<int>(std::ceil(std::max({q[0].x, q[1].x, q[2].x}))));
-    int y0 = std::max(0, static_cast<int>(std::floor(std::min({q[0].y, q[1].y, q[2].y}))));
-    int y1 = std::min(size - 1, static_cast<int>(std::ceil(std::max({q[0].y, q[1].y, q[2].y}))));
-    for (int py = y0; py <= y1; ++py)
-      for (int px = x0; px <= x1; ++px) {
-        double cx = px + 0.5, cy = py + 0.5;
-        double l0 = ((q[1].x - cx) * (q[2].y - cy) - (q[1].y - cy) * (q[2].x - cx)) / area;
-        double l1 = ((q[2].x - cx) * (q[0].y - cy) - (q[2].y - cy) * (q[0].x - cx)) / area;
-        double l2 = 1 - l0 - l1;
-        if (l0 < -1e-9 || l1 < -1e-9 || l2 < -1e-9) continue;
-        glm::dvec3 pos = l0 * glm::dvec3(m.positions[id[0]]) + l1 * glm::dvec3(m.positions[id[1]]) +
-                         l2 * glm::dvec3(m.positions[id[2]]);
-        glm::dvec3 n = l0 * glm::dvec3(m.normals[id[0]]) + l1 * glm::dvec3(m.normals[id[1]]) +
-                       l2 * glm::dvec3(m.normals[id[2]]);
-        double len = glm::length(n);
-        f(px, py, pos, len > 0 ? n / len : glm::dvec3(0, 0, 1));
-      }
+    raster_triangle(q[0], q[1], q[2], size, size, [&](int px, int py, double l0, double l1, double l2) {
+      glm::dvec3 pos = l0 * glm::dvec3(m.positions[id[0]]) + l1 * glm::dvec3(m.positions[id[1]]) +
+                       l2 * glm::dvec3(m.positions[id[2]]);
+      glm::dvec3 n = l0 * glm::dvec3(m.normals[id[0]]) + l1 * glm::dvec3(m.normals[id[1]]) +
+                     l2 * glm::dvec3(m.normals[id[2]]);
+      double len = glm::length(n);
+      f(px, py, pos, len > 0 ? n / len : glm::dvec3(0, 0, 1));
+    });
   }
 }
 
