@@ -8,6 +8,7 @@
 #include <string>
 #include <sys/wait.h>
 
+#include "renderer/analysis/fluorescence_chart.h"
 #include "renderer/camera/camera_description.h"
 #include "renderer/image/spectral_image.h"
 
@@ -85,6 +86,19 @@ inline CommandResult run_oralfluor(const std::string& args, const std::filesyste
   r.out = slurp(out);
   r.err = slurp(err);
   return r;
+}
+
+// A small fluorescence chart (FAD and protoporphyrin at three concentrations on tongue
+// reflectance, 16 px patches, the example 385 nm LED) shared by the camera CLI and chroma tests.
+inline ChartOptions small_chart_options() {
+  ChartOptions o;
+  o.fluorophores = {"FAD", "protoporphyrin"};
+  o.concentrations = {0.0, 2e-3, 1e-2};
+  o.patch_px = 16;
+  o.peak_irradiance = 4.0;
+  o.led = example_led_spectrum();
+  o.reflectance = tongue_reflectance_spectrum();
+  return o;
 }
 
 }  // namespace ofl::testing

@@ -18,15 +18,8 @@ namespace {
 const std::string kOralEye = std::string(OFL_SOURCE_DIR) + "/scenes/cameras/oraleye.json";
 
 std::filesystem::path small_chart(const std::filesystem::path& dir) {
-  ChartOptions o;
-  o.fluorophores = {"FAD", "protoporphyrin"};
-  o.concentrations = {0.0, 2e-3, 1e-2};
-  o.patch_px = 16;
-  o.peak_irradiance = 4.0;
-  o.led = example_led_spectrum();
-  o.reflectance = tongue_reflectance_spectrum();
   auto p = dir / "chart.exr";
-  write_spectral_exr(p, make_fluorescence_chart(o));
+  write_spectral_exr(p, make_fluorescence_chart(small_chart_options()));
   return p;
 }
 

@@ -22,16 +22,6 @@ namespace {
 constexpr double kPiT = 3.14159265358979323846;
 const std::string kOralEye = std::string(OFL_SOURCE_DIR) + "/scenes/cameras/oraleye.json";
 
-ChartOptions chart_options() {
-  ChartOptions o;
-  o.fluorophores = {"FAD", "protoporphyrin"};
-  o.concentrations = {0.0, 2e-3, 1e-2};
-  o.patch_px = 16;
-  o.peak_irradiance = 4.0;
-  o.led = example_led_spectrum();
-  o.reflectance = tongue_reflectance_spectrum();
-  return o;
-}
 }  // namespace
 
 TEST(Chroma, CellChromaticityFromAHandMadeMosaic) {
@@ -85,7 +75,7 @@ TEST(Chroma, UnchangedWhenTheRadianceIsScaledWithoutNoise) {
   cam.sensor.bit_depth = 16;
   cam.sensor.system_gain_dn_per_e = 0.5;  // thousands of DN per cell: quantisation below 1e-4 in r, g
   cam.sensor.full_well_e = 1e7;
-  ChartOptions o = chart_options();
+  ChartOptions o = small_chart_options();
   o.shading_corner = 0.3;  // strongly non-uniform light across the chart
   SpectralImage img = make_fluorescence_chart(o);
   CameraRunOptions opt;
@@ -117,7 +107,7 @@ TEST(Chroma, SmoothShadingKeepsChromaticityButTiltedFiltersMoveIt) {
   // One large FAD patch, light falling to 30 % at the corners. With filters that do not shift the
   // cells' chromaticity hardly spreads; with interference filters (40 deg field of view) the corners
   // see a bluer long-pass edge and the spread grows: the effect the product exists to expose.
-  ChartOptions o = chart_options();
+  ChartOptions o = small_chart_options();
   o.fluorophores = {"FAD"};
   o.concentrations = {2e-3};
   o.patch_px = 256;
@@ -189,7 +179,7 @@ TEST(Chroma, ChartPatchLiesOnItsReferenceLine) {
   cam.sensor.bit_depth = 16;
   cam.sensor.system_gain_dn_per_e = 2.0;
   cam.sensor.full_well_e = 1e7;
-  ChartOptions o = chart_options();
+  ChartOptions o = small_chart_options();
   // Uniform light and a realistic pixel size (0.16 deg): a light or filter-angle gradient across a
   // 2x2 cell biases its r, g (each colour is sampled at a different place).
   // 5 nm bands: with 10 nm bands the reflected LED tail across the 475 nm edge is spread evenly
@@ -220,7 +210,7 @@ TEST(Chroma, ChartPatchLiesOnItsReferenceLine) {
 TEST(Chroma, CliWritesPlotAndLinesFromTheSidecar) {
   auto dir = scratch("chroma_cli");
   auto exr = dir / "chart.exr";
-  write_spectral_exr(exr, make_fluorescence_chart(chart_options()));
+  write_spectral_exr(exr, make_fluorescence_chart(small_chart_options()));
   auto out = dir / "out";
   ASSERT_EQ(run_oralfluor("camera " + exr.string() + " --camera " + kOralEye + " -o " + out.string(), dir).exit_code, 0);
   CommandResult r = run_oralfluor("chroma " + (out / "raw.tiff").string() + " --roi 18,2,12,12 --json", dir);
