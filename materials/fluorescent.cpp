@@ -18,7 +18,7 @@ int load_texture(const JsonNode& n, MaterialContext& ctx) {
   auto path = n.existing_file();
   std::string key = std::filesystem::weakly_canonical(path).string();
   if (auto it = ctx.texture_index.find(key); it != ctx.texture_index.end()) return it->second;
-  ctx.textures->push_back(read_texture(path));
+  ctx.textures->push_back(n.read_file([](const std::filesystem::path& p) { return read_texture(p); }));
   int idx = static_cast<int>(ctx.textures->size()) - 1;
   ctx.texture_index[key] = idx;
   return idx;
@@ -52,8 +52,10 @@ std::vector<FluorophoreLayer> parse_fluorophore_layers(const JsonNode& list, Mat
       try {
         ctx.eems->push_back(load_fluorophore(what, ctx.grid, base, normalise));
       } catch (const InputError& e) {
-        // Keep the original file when the problem is inside the EEM file; otherwise name this field.
-        if (!e.file().empty()) throw;
+        // Keep the original file when the problem is inside the EEM file (and say which entry named
+        // it); otherwise name this field.
+        if (!e.file().empty())
+          throw InputError(e.file(), e.field(), std::string(e.what()) + " (named by " + f.file() + " " + f.path() + ")");
         f.fail(e.field() + ": " + e.what());
       }
       it = ctx.eem_index.emplace(key, static_cast<int>(ctx.eems->size()) - 1).first;

@@ -109,3 +109,30 @@ TEST(SceneErrors, CliExitCodeTwoAndOneLine) {
   EXPECT_NE(r.output.find("broken.glb: broken glTF"), std::string::npos) << r.output;
   EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
 }
+
+TEST(SceneErrors, ABrokenReferencedFileNamesItselfAndTheEntryThatNamedIt) {
+  // A NaN inside a reflectance CSV: the CSV and its line, and the scene field that referred to it.
+  auto csv = write("nan_reflectance.csv", "wavelength_nm,value\n400,0.5\n500,nan\n600,0.5\n");
+  auto j = good_scene();
+  j["materials"]["patch"]["reflectance"] = csv;
+  auto scene = write("refers_to_nan.json", j.dump());
+  try {
+    load_scene(scene);
+    FAIL() << "NaN reflectance accepted";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.file(), csv);
+    EXPECT_EQ(e.field(), "line 3 column \"value\"");
+    EXPECT_NE(std::string(e.what()).find("(named by " + scene + " /materials/patch/reflectance)"), std::string::npos)
+        << e.what();
+  }
+  // A broken glTF: the .glb and the geometry entry, on one line, exit code 2.
+  j = good_scene();
+  auto glb = write("broken_named.glb", "glTF this is not");
+  j["geometry"] = {{{"type", "gltf"}, {"file", glb}}};
+  scene = write("refers_to_broken.json", j.dump());
+  auto r = test::run_cli("render " + scene + " -o " + (tmpdir() / "out").string());
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_EQ(r.output.rfind("error: " + glb + ": ", 0), 0u) << r.output;
+  EXPECT_NE(r.output.find("(named by " + scene + " /geometry/0/file)"), std::string::npos) << r.output;
+  EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
+}

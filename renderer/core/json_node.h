@@ -13,6 +13,8 @@
 #include <glm/vec3.hpp>
 #include <nlohmann/json.hpp>
 
+#include "renderer/core/error.h"
+
 namespace ofl {
 
 class JsonNode {
@@ -61,6 +63,19 @@ class JsonNode {
   void check_keys(std::initializer_list<const char*> allowed) const;
   // A file named in this document, resolved against the document's folder; must exist.
   std::filesystem::path existing_file() const;
+  // Reads the file this node names with `read(path)`. An input error inside that file keeps its
+  // own file and line and gains "(named by <this file> <pointer>)", so the one-line message shows
+  // both the broken file and the entry that referred to it.
+  template <class Read>
+  auto read_file(Read&& read) const -> decltype(read(std::filesystem::path())) {
+    const std::filesystem::path p = existing_file();
+    try {
+      return read(p);
+    } catch (const InputError& e) {
+      if (e.file().empty() || e.file() == file_) throw;
+      throw InputError(e.file(), e.field(), std::string(e.what()) + " (named by " + file_ + " " + path() + ")");
+    }
+  }
 
   [[noreturn]] void fail(const std::string& what) const;
 

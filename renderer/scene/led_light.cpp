@@ -99,7 +99,7 @@ static LedProfile parse_profile(const JsonNode& n) {
       rows.push_back({r.at(0).number(0.0, 90.0), r.at(1).number(0.0)});
     }
   } else if (auto ies = n.find("ies_file")) {
-    rows = read_ies_profile(ies->existing_file());
+    rows = ies->read_file([](const std::filesystem::path& p) { return read_ies_profile(p); });
   } else {
     auto file = n.at("table_file").existing_file();
     CsvNumeric c = read_numeric_csv(file);

@@ -72,7 +72,7 @@ void parse_geometry(Scene& sc, const JsonNode& list) {
       g.check_keys({"type", "file", "transform", "materials", "default_material"});
       glm::dmat4 world = g.find("transform") ? parse_transform(g.at("transform")) : glm::dmat4(1.0);
       auto file = g.at("file").existing_file();
-      auto meshes = read_gltf(file, world).meshes;
+      auto meshes = g.at("file").read_file([&](const std::filesystem::path& p) { return read_gltf(p, world); }).meshes;
       if (meshes.empty()) g.at("file").fail("the glTF file has no triangle meshes");
       for (auto& m : meshes) {
         std::string scene_name = m.material;

@@ -7,7 +7,8 @@
 
 namespace ofl {
 
-static Spectrum parse_csv_spectrum(const JsonNode& node, const std::filesystem::path& file, SpectrumKind kind) {
+// `node` holds the options (when an object), `file_node` names the CSV.
+static Spectrum parse_csv_spectrum(const JsonNode& node, const JsonNode& file_node, SpectrumKind kind) {
   SpectrumCsvOptions o;
   o.outside = kind == SpectrumKind::kReflectance ? Outside::kClamp : Outside::kZero;
   if (node.is_object()) {
@@ -17,15 +18,17 @@ static Spectrum parse_csv_spectrum(const JsonNode& node, const std::filesystem::
     std::string out = node.choice_or("outside", o.outside == Outside::kClamp ? "clamp" : "zero", {"zero", "clamp"});
     o.outside = out == "clamp" ? Outside::kClamp : Outside::kZero;
   }
-  TabulatedSpectrum t = read_spectrum_csv(file, o);
-  if (kind != SpectrumKind::kEmission) {
-    for (size_t i = 0; i < t.value.size(); ++i)
-      if (t.value[i] > 1.0 + 1e-6)
-        throw InputError(file.string(), "wavelength " + std::to_string(t.nm[i]) + " nm",
-                         "value " + std::to_string(t.value[i]) +
-                             " above 1 for a reflectance/transmittance (percent? use \"scale\": 0.01)");
-  }
-  return table_spectrum(std::move(t), file.filename().string() + (o.column.empty() ? "" : ":" + o.column));
+  return file_node.read_file([&](const std::filesystem::path& file) {
+    TabulatedSpectrum t = read_spectrum_csv(file, o);
+    if (kind != SpectrumKind::kEmission) {
+      for (size_t i = 0; i < t.value.size(); ++i)
+        if (t.value[i] > 1.0 + 1e-6)
+          throw InputError(file.string(), "wavelength " + std::to_string(t.nm[i]) + " nm",
+                           "value " + std::to_string(t.value[i]) +
+                               " above 1 for a reflectance/transmittance (percent? use \"scale\": 0.01)");
+    }
+    return table_spectrum(std::move(t), file.filename().string() + (o.column.empty() ? "" : ":" + o.column));
+  });
 }
 
 Spectrum parse_spectrum(const JsonNode& node, SpectrumKind kind) {
@@ -33,7 +36,7 @@ Spectrum parse_spectrum(const JsonNode& node, SpectrumKind kind) {
     double v = node.number(0.0, kind == SpectrumKind::kEmission ? 1e300 : 1.0);
     return constant_spectrum(v);
   }
-  if (node.is_string()) return parse_csv_spectrum(node, node.existing_file(), kind);
+  if (node.is_string()) return parse_csv_spectrum(node, node, kind);
   if (!node.is_object()) node.fail("expected a number, a CSV file name or a spectrum object");
   std::string type = node.at("type").string();
   if (type == "constant") {
@@ -42,7 +45,7 @@ Spectrum parse_spectrum(const JsonNode& node, SpectrumKind kind) {
   }
   if (type == "csv") {
     node.check_keys({"type", "file", "column", "scale", "clip_negative", "outside"});
-    return parse_csv_spectrum(node, node.at("file").existing_file(), kind);
+    return parse_csv_spectrum(node, node.at("file"), kind);
   }
   if (type == "points") {
     node.check_keys({"type", "points", "outside"});
@@ -114,7 +117,7 @@ OpticalFilter parse_filter(const JsonNode& node) {
   if (type == "measured") {
     node.check_keys({"type", "name", "file", "column", "scale", "interference", "n_eff", "outside", "clip_negative"});
     f.kind = OpticalFilter::Kind::kMeasured;
-    f.measured = parse_csv_spectrum(node, node.at("file").existing_file(), SpectrumKind::kTransmittance);
+    f.measured = parse_csv_spectrum(node, node.at("file"), SpectrumKind::kTransmittance);
     return f;
   }
   node.check_keys({"type", "name", "edge_nm", "edge2_nm", "width_nm", "od", "peak", "interference", "n_eff"});
