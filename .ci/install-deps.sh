@@ -1,6 +1,9 @@
 #!/usr/bin/env bash
 # Installs the Debian 12 packages oralfluor builds and tests with, only those missing.
 # Idempotent: a second run does nothing. Needs root (or sudo) when something is missing.
+# Python module and its tests: pybind11-dev, python3-numpy, python3-pytest, python3-matplotlib (for
+# /usr/bin/python3). octave: one test loads an exported ISETCam scene in Octave (measured on the
+# 2-core machine: 72 s of apt for octave with its dependencies, 83 s for the Python packages).
 set -euo pipefail
 pkgs=(
   build-essential cmake pkg-config
@@ -10,6 +13,8 @@ pkgs=(
   openmpi-bin libopenmpi-dev
   chromium
   fonts-dejavu-core dcraw
+  pybind11-dev python3-dev python3-numpy python3-pytest python3-matplotlib
+  octave
 )
 missing=()
 for p in "${pkgs[@]}"; do

@@ -6,6 +6,8 @@
 
 #include "renderer/core/csv.h"
 #include "renderer/core/error.h"
+#include "renderer/interop/iset_sensor.h"
+#include "renderer/interop/mat_file.h"
 #include "renderer/spectral/spectrum_json.h"
 
 namespace ofl {
@@ -83,7 +85,7 @@ void parse_qe(const JsonNode& n, SensorDescription& s) {
       c->check_keys({"R", "G", "B"});
       for (int i = 0; i < 3; ++i) cols[i] = c->at(names[i]).string();
     } else {
-      CsvNumeric t = read_numeric_csv(file);
+      CsvNumeric t = read_spectrum_table(file);  // a CSV or an ISETCam .mat
       if (t.header.size() != 4)
         n.fail("the QE file has " + std::to_string(t.header.size() - 1) +
                " value columns; name the R, G and B columns with \"columns\"");
@@ -174,6 +176,7 @@ CameraDescription parse_camera(const JsonNode& root) {
 }
 
 CameraDescription load_camera(const std::filesystem::path& file) {
+  if (is_mat_file(file)) return parse_camera(JsonFile::from(import_iset_sensor(file).camera, file.string()).root());
   JsonFile f = JsonFile::load(file);
   return parse_camera(f.root());
 }

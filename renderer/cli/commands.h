@@ -19,5 +19,7 @@ void register_sweep_command(CLI::App& app);
 void register_diagnose_command(CLI::App& app);
 void register_fluorophores_command(CLI::App& app);
 void register_mesh_command(CLI::App& app);
+void register_export_iset_command(CLI::App& app);
+void register_import_iset_command(CLI::App& app);
 
 }  // namespace ofl

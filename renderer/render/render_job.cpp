@@ -8,6 +8,8 @@
 #include <chrono>
 #include <cmath>
 #include <mutex>
+#include <optional>
+#include <thread>
 
 #include <nlohmann/json.hpp>
 
@@ -38,9 +40,23 @@ RenderResult render(const Scene& scene, const RenderOptions& opt) {
 
   RenderStats st;
   st.build_seconds = std::chrono::duration<double>(t1 - t0).count();
-  ProgressBar bar("render", int64_t(W) * H * spp);
+  std::optional<ProgressBar> bar;  // RenderOptions::progress false: no bar at all
+  if (opt.progress) bar.emplace("render", int64_t(W) * H * spp);
   std::mutex mu;
   int done = 0;
+  // Library progress callback: called only on this thread (which takes part in the tile loop).
+  const auto caller = std::this_thread::get_id();
+  const int64_t total_samples = int64_t(W) * H * spp;
+  std::atomic<int64_t> samples_done{0};
+  auto last_call = std::chrono::steady_clock::now();
+  bool stop = false;
+  auto report = [&](bool force) {
+    if (!opt.progress_callback || (!force && std::this_thread::get_id() != caller) || stop) return;
+    auto now = std::chrono::steady_clock::now();
+    if (!force && now - last_call < std::chrono::milliseconds(200)) return;
+    last_call = now;
+    if (!opt.progress_callback(samples_done.load(), total_samples)) stop = true;
+  };
   const int max_pass = std::max(1, int(4'000'000 / (int64_t(W) * H)));
   while (done < spp) {
     int pass = std::clamp(done, 1, max_pass);
@@ -67,7 +83,10 @@ RenderResult render(const Scene& scene, const RenderOptions& opt) {
             half[2 * pixel] += float(h0);
             half[2 * pixel + 1] += float(h1);
           }
-        bar.advance(int64_t(std::min(kTile, W - x0)) * std::min(kTile, H - y0) * pass);
+        int64_t n = int64_t(std::min(kTile, W - x0)) * std::min(kTile, H - y0) * pass;
+        if (bar) bar->advance(n);
+        samples_done += n;
+        report(false);
       }
       std::lock_guard lock(mu);
       st.rays += local;
@@ -83,10 +102,11 @@ RenderResult render(const Scene& scene, const RenderOptions& opt) {
     double npx = double(W) * H;
     double mean = tot / npx;
     st.relative_noise = mean > 0 ? std::sqrt(diff2 / npx) / mean : 0;  // per-pixel relative std error
-    if (interrupt_requested()) { st.interrupted = done < spp; break; }
+    report(true);
+    if (interrupt_requested() || stop) { st.interrupted = done < spp; break; }
     if (scene.integrator.noise_target > 0 && done >= 4 && st.relative_noise <= scene.integrator.noise_target) break;
   }
-  bar.finish();
+  if (bar) bar->finish();
   auto t2 = std::chrono::steady_clock::now();
   st.seconds = std::chrono::duration<double>(t2 - t1).count();
   st.spp_done = done;

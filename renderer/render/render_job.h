@@ -17,6 +17,10 @@ struct RenderOptions {
   std::vector<double> wavelength_importance;  // optional, per grid index (mixed half and half with uniform)
   bool aovs = true;                  // per-pixel material, UV, depth, irradiance planes
   bool fluorescence_layer = true;    // the fluorescent part of the radiance as its own layer
+  // Optional, for library callers (the Python module): called on the calling thread about every
+  // 0.2 s and after each pass with (camera samples done, samples requested). Returning false stops
+  // the render after the current pass, as SIGINT does; the image keeps every completed pass.
+  std::function<bool(int64_t done, int64_t total)> progress_callback;
 };
 
 struct RenderStats {

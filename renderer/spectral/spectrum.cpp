@@ -6,6 +6,8 @@
 
 #include "renderer/core/csv.h"
 #include "renderer/core/error.h"
+#include "renderer/interop/mat_spectrum.h"
+#include "renderer/interop/mat_file.h"
 #include "renderer/spectral/units.h"
 
 namespace ofl {
@@ -128,8 +130,13 @@ double integrate(const std::vector<double>& values, const WavelengthGrid& grid) 
   return s * grid.step_nm;
 }
 
+CsvNumeric read_spectrum_table(const std::filesystem::path& file) {
+  return is_mat_file(file) ? read_spectrum_mat(file) : read_numeric_csv(file);
+}
+
 TabulatedSpectrum read_spectrum_csv(const std::filesystem::path& file, const SpectrumCsvOptions& opt) {
-  CsvNumeric t = read_numeric_csv(file);
+  CsvNumeric t = read_spectrum_table(file);
+  const std::string row_name = is_mat_file(file) ? "data row " : "line ";
   if (t.header.size() < 2) throw InputError(t.file, "", "a spectrum needs a wavelength column and a value column");
   int col;
   if (opt.column.empty()) {
@@ -143,7 +150,7 @@ TabulatedSpectrum read_spectrum_csv(const std::filesystem::path& file, const Spe
   TabulatedSpectrum s;
   s.outside = opt.outside;
   for (size_t r = 0; r < t.rows.size(); ++r) {
-    std::string where = "line " + std::to_string(t.lines[r]);
+    std::string where = row_name + std::to_string(t.lines[r]);
     double wl = t.rows[r][0], v = t.rows[r][col];
     if (!std::isfinite(wl)) throw InputError(t.file, where, "wavelength is not a number");
     if (!s.nm.empty() && !(wl > s.nm.back()))

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "renderer/core/csv.h"
 #include "renderer/spectral/wavelength_grid.h"
 
 namespace ofl {
@@ -61,7 +62,11 @@ struct SpectrumCsvOptions {
   bool clip_negative = false;
   Outside outside = Outside::kZero;
 };
+// An ISETCam-style .mat (variables `wavelength` and `data`, see renderer/interop/mat_spectrum.h) is
+// accepted wherever a spectrum CSV is, the file name's .mat extension deciding.
 TabulatedSpectrum read_spectrum_csv(const std::filesystem::path& file, const SpectrumCsvOptions& opt = {});
+// The table behind a spectrum file: wavelength column then named value columns, from a CSV or a .mat.
+CsvNumeric read_spectrum_table(const std::filesystem::path& file);
 
 // Integral over the grid (sum times step).
 double integrate(const std::vector<double>& values, const WavelengthGrid& grid);

@@ -1,0 +1,91 @@
+// MATLAB/ISETCam exchange (.mat through libmatio) and `oralfluor diagnose` as a call returning dicts.
+#include "python/src/common.h"
+#include "renderer/core/error.h"
+#include "renderer/diagnose/diagnose_job.h"
+#include "renderer/interop/iset_scene.h"
+#include "renderer/interop/iset_sensor.h"
+#include "renderer/interop/mat_spectrum.h"
+#include "renderer/spectral/spectrum.h"
+
+namespace ofl::python {
+namespace {
+
+py::dict export_iset(const SpectralImage& img, const std::string& path, const std::string& name,
+                     std::optional<double> distance, std::optional<double> hfov, const std::string& source) {
+  IsetScene s = make_iset_scene(img, {name, distance, hfov}, source);
+  write_iset_scene(path, s);
+  py::dict d;
+  d["file"] = path;
+  d["distance_m"] = s.distance_m;
+  d["distance_source"] = s.distance_source;
+  d["hfov_deg"] = s.hfov_deg;
+  d["photon_sum"] = s.photon_sum;
+  d["illuminant"] = s.has_illuminant;
+  d["warnings"] = s.warnings;
+  return d;
+}
+
+py::dict read_spectrum_file(const std::string& path) {
+  CsvNumeric t = read_spectrum_table(path);
+  const size_t n = t.rows.size(), k = t.header.size() - 1;
+  py::array_t<double> nm(n);
+  py::dict cols;
+  for (size_t i = 0; i < n; ++i) nm.mutable_at(i) = t.rows[i][0];
+  for (size_t j = 0; j < k; ++j) {
+    py::array_t<double> c(n);
+    for (size_t i = 0; i < n; ++i) c.mutable_at(i) = t.rows[i][j + 1];
+    cols[py::str(t.header[j + 1])] = c;
+  }
+  py::dict d;
+  d["nm"] = nm;
+  d["columns"] = cols;
+  return d;
+}
+
+py::object diagnose(const std::string& input, const std::string& model, const std::vector<std::string>& where,
+                    const std::vector<std::string>& groups, std::optional<double> z, std::optional<int> max_causes,
+                    const std::string& report_by, const std::string& out) {
+  DiagnoseJob job;
+  job.input = input;
+  job.model = model;
+  job.where = where;
+  job.groups = groups;
+  job.z = z;
+  job.max_causes = max_causes;
+  job.report_by = report_by;
+  job.outdir = out;
+  job.json = true;
+  DiagnoseOutcome r;
+  run_without_gil(0, [&] { r = run_diagnose_job(job); });
+  py::dict d = from_json(r.report).cast<py::dict>();
+  d["text"] = r.text;
+  d["files"] = r.files;
+  return d;
+}
+
+}  // namespace
+
+void bind_interop(py::module_& m) {
+  m.def("export_iset", &export_iset, py::arg("image"), py::arg("path"), py::arg("name") = "", py::arg("distance_m") = py::none(),
+        py::arg("hfov_deg") = py::none(), py::arg("source") = "<python image>",
+        "write the image as an ISETCam scene struct (variable `scene`) to a .mat file; returns a summary");
+  m.def("read_iset_scene", [](const std::string& p) { return read_iset_scene(p); }, py::arg("path"),
+        "an ISETCam scene .mat as a SpectralImage (W sr^-1 m^-2 nm^-1)");
+  m.def("import_iset_sensor", [](const std::string& p) {
+          IsetSensorImport s = import_iset_sensor(p);
+          return py::make_tuple(from_json(s.camera), s.notes);
+        }, py::arg("path"), "an ISETCam sensor .mat as (camera.json dict, notes)");
+  m.def("read_spectrum_file", &read_spectrum_file, py::arg("path"),
+        "a spectrum CSV or ISETCam .mat (wavelength, data): {'nm': array, 'columns': {name: array}}");
+  m.def("write_spectrum_mat", [](const std::string& path, const std::vector<double>& nm, const std::vector<std::vector<double>>& cols,
+                                 const std::vector<std::string>& names, const std::string& comment) {
+          write_spectrum_mat(path, nm, cols, names, comment);
+        }, py::arg("path"), py::arg("nm"), py::arg("columns"), py::arg("names") = std::vector<std::string>{},
+        py::arg("comment") = "", "write an ISETCam spectral file (wavelength, data, filterNames, comment)");
+  m.def("diagnose", &diagnose, py::arg("input"), py::arg("model"), py::arg("where") = std::vector<std::string>{},
+        py::arg("groups") = std::vector<std::string>{}, py::arg("z") = py::none(), py::arg("max_causes") = py::none(),
+        py::arg("report_by") = "", py::arg("out") = "",
+        "run `oralfluor diagnose` on a folder or CSV with a model file; returns the JSON report as a dict (plus 'text')");
+}
+
+}  // namespace ofl::python

@@ -1,0 +1,22 @@
+// One `oralfluor diagnose` run as a library call (the CLI and the Python module share it): reads
+// the model and the measurements, fits, selects causes, writes the report files when asked, and
+// returns the JSON report and the text summary.
+#pragma once
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "renderer/diagnose/diagnose_model.h"
+
+namespace ofl {
+
+struct DiagnoseOutcome {
+  nlohmann::json report;            // what --json prints (report.json)
+  std::string text;                 // what the command prints without --json
+  std::vector<std::string> files;   // written into job.outdir (empty when no outdir)
+};
+
+DiagnoseOutcome run_diagnose_job(const DiagnoseJob& job);
+
+}  // namespace ofl
