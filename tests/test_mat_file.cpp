@@ -2,6 +2,7 @@
 // files (wavelength, data) accepted wherever a spectrum CSV is, with errors naming the variable.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <functional>

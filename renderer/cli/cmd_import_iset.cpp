@@ -6,6 +6,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "renderer/camera/camera_description.h"
 #include "renderer/cli/commands.h"
 #include "renderer/core/error.h"
 #include "renderer/image/spectral_exr.h"

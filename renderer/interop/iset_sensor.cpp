@@ -79,7 +79,8 @@ std::string cfa_name(const SensorReader& r, const std::vector<int>& rgb) {
       if (at(y, x) != at(y % 2, x % 2)) r.fail("cfa.pattern", "oralfluor models 2x2 Bayer cells; this pattern does not repeat one");
   const char letters[3] = {'R', 'G', 'B'};
   std::string s;
-  for (auto [y, x] : {std::pair{0, 0}, {0, 1}, {1, 0}, {1, 1}}) {
+  const std::pair<size_t, size_t> cell[4] = {{0, 0}, {0, 1}, {1, 0}, {1, 1}};  // row by row
+  for (auto [y, x] : cell) {
     double v = at(y, x);
     if (v != std::floor(v) || v < 1 || v > double(rgb.size())) r.fail("cfa.pattern", "entries must be filter indices 1.." + std::to_string(rgb.size()));
     s += letters[rgb[size_t(v) - 1]];

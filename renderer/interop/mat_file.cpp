@@ -280,11 +280,12 @@ matvar_t* to_matvar(const char* name, const MatValue& m, const std::string& wher
       if (!s) return nullptr;
       for (auto& f : m.fields) {
         matvar_t* child = to_matvar(nullptr, f.second, where + "." + f.first);
-        if (!child || !Mat_VarSetStructFieldByName(s, f.first.c_str(), 0, child)) {
-          if (child) Mat_VarFree(child);
+        if (!child) {
           Mat_VarFree(s);
           return nullptr;
         }
+        // Returns the field it replaces (none in a new struct).
+        if (matvar_t* old = Mat_VarSetStructFieldByName(s, f.first.c_str(), 0, child)) Mat_VarFree(old);
       }
       return s;
     }
