@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Sweep an LED parameter in a loop: the peak wavelength of the excitation LED, from deep violet up
-to the camera's long-pass edge. For each LED: render a patch of tongue tissue with FAD (lit
+toward the camera's 475 nm long-pass edge. For each LED: render a patch of tongue tissue with FAD (lit
 obliquely, so the light falls off across it), run the OralEye-like camera with noise, and measure
 the chromaticity over the whole patch: its mean and its spread (95 % ellipse), next to what the
 reference-line construction predicts for that LED. Plots with matplotlib.
@@ -32,7 +32,7 @@ def patch_scene(size_px, spp):
                                  "reflectance": os.path.join(ROOT, "assets/spectra/tissue/tongue_reflectance.csv"),
                                  "fluorophores": [{"name": "FAD", "concentration": 0.05}]}},
         "geometry": [{"type": "quad", "center": [0, 0, 0], "u": [0.2, 0, 0], "v": [0, 0.2, 0], "material": "tongue"}],
-        "lights": [{"spd": {"type": "gaussian", "peak_nm": 385, "fwhm_nm": 12}, "radiant_intensity_W_sr": 2.0,
+        "lights": [{"spd": {"type": "gaussian", "peak_nm": 385, "fwhm_nm": 12}, "radiant_intensity_W_sr": 0.12,
                     "profile": {"half_angle_deg": 30}, "position": [0.06, 0, 0.1], "target": [0, 0, 0]}],
     })
 
@@ -40,7 +40,7 @@ def patch_scene(size_px, spp):
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--out", default="out/led_sweep")
-    ap.add_argument("--peaks", default="370,385,400,415,430", help="LED peak wavelengths, nm")
+    ap.add_argument("--peaks", default="370,385,400,415,430,445,460", help="LED peak wavelengths, nm")
     ap.add_argument("--size", type=int, default=64, help="image size in pixels")
     ap.add_argument("--spp", type=int, default=16)
     args = ap.parse_args()

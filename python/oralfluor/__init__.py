@@ -28,10 +28,12 @@ from ._oralfluor import (  # noqa: F401  (the compiled core)
     import_iset_sensor,
     read_exr,
     read_iset_scene,
+    read_mat,
     read_raw,
     read_spectrum_file,
     simulate_camera,
     write_exr,
+    write_mat,
     write_spectrum_mat,
 )
 from .scene import Scene  # noqa: F401
@@ -40,6 +42,6 @@ from .jobs import RenderResult, reference_lines, render, roi_chromaticity  # noq
 __all__ = [
     "Camera", "CameraResult", "InputError", "RenderResult", "Scene", "SpectralImage", "chromaticity",
     "diagnose", "export_iset", "fluorophore_eem", "fluorophores", "import_iset_sensor", "read_exr",
-    "read_iset_scene", "read_raw", "read_spectrum_file", "reference_lines", "render", "roi_chromaticity",
-    "simulate_camera", "write_exr", "write_spectrum_mat",
+    "read_iset_scene", "read_mat", "read_raw", "read_spectrum_file", "reference_lines", "render", "roi_chromaticity",
+    "simulate_camera", "write_exr", "write_mat", "write_spectrum_mat",
 ]

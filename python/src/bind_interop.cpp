@@ -4,11 +4,68 @@
 #include "renderer/diagnose/diagnose_job.h"
 #include "renderer/interop/iset_scene.h"
 #include "renderer/interop/iset_sensor.h"
+#include "renderer/interop/mat_file.h"
 #include "renderer/interop/mat_spectrum.h"
 #include "renderer/spectral/spectrum.h"
 
 namespace ofl::python {
 namespace {
+
+// Python value -> MatValue: dict -> struct, str -> char, list/tuple of str -> cell row,
+// numpy array / number / list of numbers -> double (float32 arrays stay single).
+MatValue to_mat(const py::handle& v, const std::string& where) {
+  if (py::isinstance<py::dict>(v)) {
+    MatValue s = MatValue::structure();
+    for (auto& [k, x] : v.cast<py::dict>()) s.set(py::str(k).cast<std::string>(), to_mat(x, where + "." + py::str(k).cast<std::string>()));
+    return s;
+  }
+  if (py::isinstance<py::str>(v)) return MatValue::string(v.cast<std::string>());
+  if ((py::isinstance<py::list>(v) || py::isinstance<py::tuple>(v)) && py::len(v) > 0 && py::isinstance<py::str>(v.cast<py::sequence>()[0])) {
+    std::vector<MatValue> cells;
+    for (auto x : v.cast<py::sequence>()) cells.push_back(to_mat(x, where));
+    return MatValue::cell_row(std::move(cells));
+  }
+  py::array a = py::array::ensure(v);
+  if (!a) throw InputError("", where, "cannot be written to a .mat file (expected a dict, str, list of str or numbers)");
+  bool single = a.dtype().is(py::dtype::of<float>());
+  auto d = py::array_t<double, py::array::f_style | py::array::forcecast>::ensure(a);  // column-major, as MATLAB
+  if (!d) throw InputError("", where, "is not numeric");
+  std::vector<size_t> dims;
+  for (py::ssize_t i = 0; i < d.ndim(); ++i) dims.push_back(size_t(d.shape(i)));
+  if (dims.empty()) dims = {1, 1};
+  if (dims.size() == 1) dims = {dims[0], 1};
+  return MatValue::array(dims, std::vector<double>(d.data(), d.data() + d.size()), single);
+}
+
+// MatValue -> Python: struct -> dict, char -> str, cell -> list, numeric -> numpy (column-major
+// data in MATLAB's shape; scalars as float).
+py::object from_mat(const MatValue& m) {
+  switch (m.kind) {
+    case MatValue::Kind::kStruct: {
+      py::dict d;
+      for (auto& [k, v] : m.fields) d[py::str(k)] = from_mat(v);
+      return d;
+    }
+    case MatValue::Kind::kText: return py::str(m.text);
+    case MatValue::Kind::kCell: {
+      py::list l;
+      for (auto& c : m.cells) l.append(from_mat(c));
+      return l;
+    }
+    case MatValue::Kind::kNumeric: {
+      if (m.numbers.size() == 1) return py::float_(m.numbers[0]);
+      std::vector<py::ssize_t> shape(m.dims.begin(), m.dims.end()), strides;
+      py::ssize_t st = sizeof(double);
+      for (size_t d : m.dims) { strides.push_back(st); st *= py::ssize_t(d); }
+      py::array_t<double> a(shape, strides);
+      std::copy(m.numbers.begin(), m.numbers.end(), a.mutable_data());
+      if (m.single) return a.attr("astype")("float32");
+      return a;
+    }
+    case MatValue::Kind::kUnsupported: return py::str("<unsupported: " + m.unsupported + ">");
+    default: return py::none();
+  }
+}
 
 py::dict export_iset(const SpectralImage& img, const std::string& path, const std::string& name,
                      std::optional<double> distance, std::optional<double> hfov, const std::string& source) {
@@ -66,6 +123,17 @@ py::object diagnose(const std::string& input, const std::string& model, const st
 }  // namespace
 
 void bind_interop(py::module_& m) {
+  m.def("read_mat", [](const std::string& path) {
+          py::dict d;
+          for (auto& [k, v] : read_mat_file(path)) d[py::str(k)] = from_mat(v);
+          return d;
+        }, py::arg("path"), "every variable of a .mat file: structs as dicts, text as str, cells as lists, arrays as numpy");
+  m.def("write_mat", [](const std::string& path, const py::dict& vars) {
+          MatVariables out;
+          for (auto& [k, v] : vars) out.emplace_back(py::str(k).cast<std::string>(), to_mat(v, py::str(k).cast<std::string>()));
+          write_mat_file(path, out);
+        }, py::arg("path"), py::arg("variables"),
+        "write a MAT 5 file: dicts become structs, str char arrays, lists of str cells, arrays/numbers double (float32 single)");
   m.def("export_iset", &export_iset, py::arg("image"), py::arg("path"), py::arg("name") = "", py::arg("distance_m") = py::none(),
         py::arg("hfov_deg") = py::none(), py::arg("source") = "<python image>",
         "write the image as an ISETCam scene struct (variable `scene`) to a .mat file; returns a summary");

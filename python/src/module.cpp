@@ -59,7 +59,7 @@ PYBIND11_MODULE(_oralfluor, m) {
       if (p) std::rethrow_exception(p);
     } catch (const ofl::InputError& e) {
       // The message is the CLI's one line (without "error: "); file and field are attributes too.
-      py::object inst = input_error(py::str(e.describe()));
+      py::object inst = py::handle(input_error.ptr())(py::str(e.describe()));  // an instance of the class
       inst.attr("file") = py::str(e.file());
       inst.attr("field") = py::str(e.field());
       inst.attr("reason") = py::str(e.what());

@@ -34,7 +34,8 @@ def test_python_and_cli_export_the_same_scene(render, tmp_path):
     assert py["photon_sum"] == pytest.approx(photons.astype(np.float64).sum(), rel=1e-12)
     assert cli["photon_sum"] == py["photon_sum"]
     assert cli["distance_m"] == py["distance_m"] == pytest.approx(0.3, rel=1e-3)  # the patch is 0.3 m away
-    assert cli["hfov_deg"] == pytest.approx(18.0, rel=1e-9)  # square image: horizontal = vertical
+    # 18 degrees vertical over 20 rows, 30 columns: horizontal 2 atan(1.5 tan 9 deg).
+    assert cli["hfov_deg"] == pytest.approx(2 * np.degrees(np.arctan(1.5 * np.tan(np.radians(9)))), rel=1e-9)
     back = ofl.read_iset_scene(str(tmp_path / "cli.mat"))
     np.testing.assert_allclose(back.radiance, img.radiance, rtol=3e-7)
 

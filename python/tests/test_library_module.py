@@ -1,5 +1,7 @@
 """The fluorophore library as arrays (checked against the CLI's list and the EEM conventions) and
 `diagnose` as a dict equal to the CLI's --json report."""
+import json
+
 import numpy as np
 import pytest
 
@@ -21,7 +23,12 @@ def test_fluorophore_library_matches_cli_and_eem_conventions():
         assert np.all(m[np.less_equal.outer(em, ex)] == 0), f["name"]  # Stokes: nothing at or below excitation
         albedo = m.sum(axis=0) * 5.0  # photons out per photon in, integrated over emission
         np.testing.assert_allclose(albedo, e["photon_albedo"], rtol=1e-12)
-        assert albedo.max() == pytest.approx(1.0, rel=1e-9), f["name"]  # library EEMs peak at albedo 1
+        assert albedo.max() <= 1 + 1e-9  # a photon in gives at most one photon out
+        if json.load(open(f["file"])).get("normalise", True):
+            # Normalised on the file's own axes to a peak albedo of 1 (keratin peaks below 350 nm: a grid
+            # from 240 nm holds every peak); bin averaging onto 5 nm loses a little.
+            wide = ofl.fluorophore_eem(f["name"], grid=(240, 840, 5))["photon_albedo"]
+            assert wide.max() == pytest.approx(1.0, abs=0.03), f["name"]
         assert ex[np.argmax(albedo)] == f["peak_excitation_nm"]
 
 
@@ -35,5 +42,5 @@ def test_diagnose_returns_the_cli_report(tmp_path):
     job_py, job_cli = py.pop("job"), cli.pop("job")  # the jobs differ only in where files go
     assert job_py["input"] == job_cli["input"] and job_py["model"] == job_cli["model"]
     assert py == cli
-    with pytest.raises(ofl.InputError, match="model"):
+    with pytest.raises(ofl.InputError, match=r"nope\.json: cannot open file"):
         ofl.diagnose(args[0], str(tmp_path / "nope.json"))

@@ -268,9 +268,11 @@ matvar_t* to_matvar(const char* name, const MatValue& m, const std::string& wher
       return Mat_VarCreate(name, MAT_C_DOUBLE, MAT_T_DOUBLE, rank, dims.data(), d.empty() ? nullptr : d.data(), 0);
     }
     case MatValue::Kind::kText: {
-      std::string s = m.text;
-      size_t d[2] = {s.empty() ? size_t(0) : size_t(1), s.size()};
-      return Mat_VarCreate(name, MAT_C_CHAR, MAT_T_UINT8, 2, d, s.empty() ? nullptr : s.data(), 0);
+      // As MATLAB stores text: 16-bit code units (matio writes 8-bit char data with a wrong size).
+      std::vector<uint16_t> u(m.text.begin(), m.text.end());
+      for (auto& c : u) c &= 0xff;
+      size_t d[2] = {u.empty() ? size_t(0) : size_t(1), u.size()};
+      return Mat_VarCreate(name, MAT_C_CHAR, MAT_T_UINT16, 2, d, u.empty() ? nullptr : u.data(), 0);
     }
     case MatValue::Kind::kStruct: {
       std::vector<const char*> names;
