@@ -33,7 +33,7 @@ def main():
     from oralfluor.plot import plot_reference_lines
     fig, ax = plt.subplots(figsize=(6, 5.5))
     plot_reference_lines(ax, ref)
-    ax.set_title("Tongue + fluorophore under the 385 nm LEDs, OralEye-like camera")
+    ax.set_title("tongue + fluorophore, 385 nm LEDs, OralEye-like camera", fontsize=10)
     ax.legend(fontsize=8, loc="best")
     fig.tight_layout()
     fig.savefig(os.path.join(args.out, "figure5.png"), dpi=120)
