@@ -127,7 +127,7 @@ TEST(IsetScene, EveryFieldMatchesTheSource) {
   }
   // Metadata: the fluorescent part in photons, and the oralfluor header strings.
   const MatValue& fl = mat_require(f, sc, "scene", "metadata.fluorescencePhotons");
-  EXPECT_EQ(float(fl.numbers[3 * 24 + 2 * 4 + 1]), float(1e-4 * 3 * 550e-9 / (kH * kC)));
+  EXPECT_EQ(float(fl.numbers[3 * 24 + 2 * 4 + 1]), float(double(float(1e-4 * 3)) * 550e-9 / (kH * kC)));  // x = 2, y = 1, 550 nm
   EXPECT_EQ(mat_require(f, sc, "scene", "metadata.seed").text, "7");
 }
 

@@ -102,7 +102,8 @@ TEST(MatSpectrum, MatEqualsCsvInSpectraAndCameraQe) {
     EXPECT_EQ(a.value, b.value) << col;
   }
   // A camera whose QE file is the .mat, columns found from filterNames as from a CSV header.
-  nlohmann::json cam = {{"sensor", {{"pixel_pitch_um", 3.0}, {"exposure_s", 0.01}, {"qe", {{"file", "qe.mat"}}}}}};
+  nlohmann::json cam = JsonFile::load(std::string(OFL_SOURCE_DIR) + "/scenes/cameras/oraleye.json").doc();
+  cam["sensor"]["qe"] = {{"file", "qe.mat"}};
   nlohmann::json cam_csv = cam;
   cam_csv["sensor"]["qe"]["file"] = "qe.csv";
   CameraDescription cm = parse_camera(JsonFile::from(cam, (d / "cam.json").string()).root());
