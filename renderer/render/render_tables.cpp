@@ -88,6 +88,7 @@ RenderTables::RenderTables(const Scene& sc, const std::vector<double>& importanc
         t.fluorophores.push_back(std::move(ft));
       }
     }
+    t.stack = build_stack_tables(m.stack, sc.eems, light_shape, fluo);
     materials.push_back(std::move(t));
   }
 
