@@ -107,7 +107,8 @@ TEST_P(LayeredCheck, AgreesWithClosedForm) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Cases, LayeredCheck,
-                         ::testing::Values("layered_fluorescent_escape", "layered_furnace", "layered_coated_lambertian"));
+                         ::testing::Values("layered_fluorescent_escape", "layered_scattering_fluorescence", "layered_furnace",
+                                           "layered_coated_lambertian"));
 
 TEST(LayeredRender, ThinLayerLimitIsTheSurfaceMaterial) {
   BenchResult r = run_bench_case("layered_thin_limit", 256, 1);

@@ -5,12 +5,17 @@
 //     exp(-b z / mu_o); radiance L(mu_o) = sum_ex sigma(em <- ex) E(ex) / (4 pi mu_i mu_o)
 //     * (1 - exp(-d (a / mu_i + b / mu_o))) / (a / mu_i + b / mu_o) and exitance
 //     M = sum_ex sigma E / mu_i * integral_0^d exp(-a z / mu_i) E2(b z) / 2 dz (exponential integral);
+//   layered_scattering_fluorescence  a scattering fluorescent half-space (n = 1.37, smooth top)
+//     under a normal beam: the camera-side exitance (next-event estimation with direct and
+//     scattered excitation) against an analog forward Monte Carlo of excitation and emission
+//     photons written here, independent of the walk;
 //   layered_furnace  a non-absorbing stack with index steps over a white base returns everything
 //     (albedo 1 for every incidence), and a non-absorbing open slab reflects plus transmits 1;
 //   layered_coated_lambertian  a clear film of index n over a Lambertian base:
 //     f = (1 - F(theta_i)) (1 - F(theta_o)) rho / (pi n^2 (1 - rho r_i)), r_i = 1 - (1 - F_avg) / n^2.
 #include <chrono>
 #include <cmath>
+#include <numeric>
 
 #include <glm/geometric.hpp>
 
@@ -223,6 +228,96 @@ CheckCaseResult fluorescent_escape(long long samples, uint64_t seed) {
   return r;
 }
 
+// Analog forward photons through one semi-infinite layer (smooth top, index n over vacuum, normal
+// incidence): excitation photons drawn from the LED's photon shape scatter (HG), are absorbed, or
+// are absorbed by the fluorophores and re-emitted isotropically at a wavelength drawn from the
+// emission column; tallies the fluorescence photons that leave through the top per bin.
+std::vector<double> forward_fluorescence(const StackBench& b, long long photons, uint64_t seed) {
+  const StackLayerTables& L = b.mt().stack.layers.at(0);
+  const double n_rel = 1.0 / L.ior;
+  const int n = b.n();
+  const auto& shape = b.shape();
+  std::vector<double> cdf(n + 1, 0.0), tally(n, 0.0);
+  for (int i = 0; i < n; ++i) cdf[i + 1] = cdf[i] + shape[i];
+  auto fl_absorb = [&](int w) {
+    double a = 0;
+    for (const auto& f : L.fluors) a += f.absorb[w];
+    return a;
+  };
+  for (long long i = 0; i < photons; ++i) {
+    Rng rng(seed, Rng::stream_for(0x46574430ULL, uint64_t(i)));
+    int w = int(std::upper_bound(cdf.begin(), cdf.end(), rng.next_double() * cdf[n]) - cdf.begin()) - 1;
+    w = std::clamp(w, 0, n - 1);
+    if (rng.next_double() < fresnel_dielectric(1.0, L.ior)) continue;  // specular reflection
+    double depth = 0;
+    glm::dvec3 d(0, 0, -1);
+    bool fluorescent = false;
+    for (int step = 0; step < 100000; ++step) {
+      const double fa = fl_absorb(w), mut = L.mua[w] + L.mus[w] + fa;
+      const double t = -std::log(1.0 - rng.next_double()) / mut;
+      if (d.z > 0 && depth - t * d.z <= 0) {  // reaches the top: leaves or reflects back
+        if (rng.next_double() < fresnel_dielectric(d.z, n_rel)) {
+          depth = 0;
+          d.z = -d.z;
+          continue;
+        }
+        if (fluorescent) tally[w] += 1.0;
+        break;
+      }
+      depth -= t * d.z;
+      double u = rng.next_double() * mut;
+      if (u < L.mus[w]) {
+        d = sample_hg(L.g, d, rng.next_double(), rng.next_double());
+        continue;
+      }
+      if (u >= L.mus[w] + fa) break;  // absorbed by a chromophore
+      // Absorbed by a fluorophore: re-emitted at em with probability emit(em <- w) / fa.
+      double v = rng.next_double() * fa;
+      int em = -1;
+      for (const auto& f : L.fluors)
+        for (int e = w + 1; e < n && em < 0; ++e) {
+          v -= f.emit[size_t(e) * n + w];
+          if (v < 0) em = e;
+        }
+      if (em < 0) break;  // not re-emitted (quantum yield)
+      w = em;
+      fluorescent = true;
+      d = sample_uniform_sphere(rng.next_double(), rng.next_double());
+    }
+  }
+  for (int i = 0; i < n; ++i) tally[i] *= cdf[n] / double(photons);
+  return tally;
+}
+
+CheckCaseResult scattering_fluorescence(long long samples, uint64_t seed) {
+  CheckCaseResult r;
+  r.name = "layered_scattering_fluorescence";
+  r.samples = samples;
+  json m = fluorescent_layer(0);
+  m["layers"][0]["ior"] = 1.37;
+  m["layers"][0]["scattering"] = {{"g", 0.8}, {"mus_per_mm", 10.0}};
+  auto b = make_bench(m, {{"type", "gaussian"}, {"peak_nm", 425}, {"fwhm_nm", 20}});
+  const int bins_nm[kLanes] = {490, 505, 520, 535, 550, 570, 600, 630};
+  int bins[kLanes];
+  for (int k = 0; k < kLanes; ++k) bins[k] = b->scene.grid().index_of(bins_nm[k]);
+  LaneStats cam = nee_estimate(*b, bins, samples, seed, [](double u1, double u2, double, double) {
+    return Dirs{sample_cosine_hemisphere(u1, u2), glm::dvec3(0, 0, 1)};
+  });
+  const long long photons = 40 * samples;
+  auto fwd = forward_fluorescence(*b, photons, seed + 7);
+  const double total_shape = std::accumulate(b->shape().begin(), b->shape().end(), 0.0);
+  for (int k = 0; k < kLanes; ++k) {
+    double ref = fwd[bins[k]];
+    // Poisson standard error of the forward tally, in the same units.
+    double se_fwd = std::sqrt(ref * total_shape / double(photons));
+    double se = std::hypot(kPi * cam.se[k], se_fwd);
+    char q[160];
+    std::snprintf(q, sizeof q, "exitance at %d nm, camera side vs forward photons", bins_nm[k]);
+    r.checks.push_back({q, kPi * cam.mean[k], ref, mc_tolerance(0.0, ref, se)});
+  }
+  return r;
+}
+
 // Mean continuation weight (albedo) for viewing direction wo, over `samples` walks.
 std::pair<double, double> albedo(const StackBench& b, const glm::dvec3& wo, long long samples, uint64_t seed, int bin) {
   double s1 = 0, s2 = 0;
@@ -393,6 +488,10 @@ std::vector<CheckCaseInfo> check_cases() {
        "non-scattering fluorescent layer under a collimated 425 nm beam: radiance and exitance against exponential "
        "attenuation and exponential-integral escape, semi-infinite and 0.3 mm",
        20000},
+      {"layered_scattering_fluorescence",
+       "scattering fluorescent half-space (n = 1.37) under a normal 425 nm beam: camera-side exitance against analog "
+       "forward photons",
+       20000},
       {"layered_furnace", "non-absorbing three-layer stack with index steps over a white base: albedo 1; open slab: R + T = 1", 20000},
       {"layered_coated_lambertian", "clear film (n = 1.33) over a Lambertian base: the closed-form BRDF with internal reflections", 20000},
   };
@@ -415,6 +514,7 @@ CheckCaseResult run_check_case(const std::string& name, long long samples, uint6
   CheckCaseResult r;
   if (name == "layered_fluorescent_escape") r = fluorescent_escape(samples, seed);
   else if (name == "layered_furnace") r = furnace(samples, seed);
+  else if (name == "layered_scattering_fluorescence") r = scattering_fluorescence(samples, seed);
   else if (name == "layered_coated_lambertian") r = coated_lambertian(samples, seed);
   else if (name.rfind("mcml_", 0) == 0) {
     auto dir = mcml_case_dir();

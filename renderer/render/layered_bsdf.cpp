@@ -8,7 +8,8 @@
 #include "renderer/render/stack_walk.h"
 
 namespace ofl {
-
+struct DbgWalk { double maxv=0; int kind=0; double w=0; int coll=0; int wl=0; double x=0; int layer=0; double depth=0; };
+thread_local DbgWalk g_dbg;
 namespace {
 
 // The direction light from the LED travels in each layer, and what it loses on the way there.
@@ -60,35 +61,104 @@ inline float layer_mut(const StackLayerTables& L, const float* fac, int wl) {
   return m;
 }
 
+// Scattered-excitation sub-walks: launched at a collision of the camera walk with probability
+// kSubwalkRate exp(-D), D the LED light's diffusion optical depth down to the collision (no less
+// than kSubwalkMinRate, so that every depth stays sampled), the estimate divided by it.
+constexpr double kSubwalkRate = 0.5;
+constexpr double kSubwalkMinRate = 0.02;
+
 // Next-event estimation at every vertex of the walk, gathered into the camera path's lanes.
+//
+// Volume fluorescence excited by LED light is estimated at every collision of a lane (at its
+// current wavelength, as the emission wavelength) in two parts, so that it never hinges on the rare
+// event of the walk choosing to re-radiate (probability kappa / (mus + kappa) per collision, about
+// 1e-3 in oral tissue):
+// - unscattered LED light reaching the point: summed deterministically over the LED's bins;
+// - LED light that scattered in the stack first: a sub-walk from the point in a uniform direction
+//   (the adjoint of isotropic emission) carries excitation lanes drawn from the LED spectrum times
+//   the fluorophores' absorption, without re-radiation, with next-event estimation at its
+//   collisions. A lane that the walk did re-radiate in a volume therefore skips next-event
+//   estimation for the rest of the walk (the sub-walks cover those paths); its exits still count.
 class WalkNee {
  public:
   WalkNee(const StackTables& st, const MaterialTables& mt, const StackPointFactors& fac, const LightSample& ls,
-          const StackConnection& conn, const float* shape, double mis, int n, PathLanes& p)
-      : st_(st), mt_(mt), fac_(fac), ls_(ls), c_(conn), shape_(shape), mis_(mis), n_(n), p_(p),
-        tex_(st.led_support[ls.group].size()) {}
+          const StackConnection& conn, const float* shape, double mis, int n, PathLanes& p,
+          const StackWalker* sub_walker, Rng* rng)
+      : st_(st), mt_(mt), fac_(fac), ls_(ls), c_(conn), shape_(shape), mis_(mis), n_(n), p_(&p),
+        sub_walker_(sub_walker), rng_(rng), tex_(st.led_support[ls.group].size()) {}
 
   void moved(const glm::dvec3&, double) {}
 
   void collision(const WalkState& s, const LaneCoefficients& c, const WalkLanes& lanes) {
     const int l = s.layer;
     if (l > c_.reach) return;
+    scattered_light(s, c, lanes);
+    if (acc_ != nullptr) return;  // a sub-walk: scattered excitation light only
+    const StackLayerTables& L = st_.layers[l];
+    if (L.fluors.empty() || L.fluors.front().emit.empty()) return;
+    direct_excitation(s, lanes);
+    if (sub_walker_ == nullptr) return;
+    const double rate = subwalk_rate(s);
+    if (rng_->next_double() < rate) scattered_excitation(s, lanes, rate);
+  }
+
+  void base_vertex(const WalkState& s, const WalkLanes& lanes) {
+    const int l = int(st_.layers.size()) - 1;
+    if (l > c_.reach) return;
+    const double common = c_.fresnel_t[l] * c_.top_weight * ls_.g / kPi;
+    int max_wl = 0;
+    for (int k = 0; k < lanes.count; ++k) {
+      if (lanes.w[k] == 0 || lanes.vrerad[k]) continue;
+      max_wl = std::max(max_wl, lanes.wl[k]);
+      const int em = lanes.wl[k];
+      add(k, lanes.w[k] * mt_.reflectance[em] * std::exp(-through(em)) * shape_[em] * mis_ * common, lanes.fl[k]);
+    }
+    if (mt_.fluorophores.empty() || acc_ != nullptr) return;
+    // The base's fluorophores excited by LED light that crossed every layer (summed over its bins).
+    const auto& support = st_.led_support[ls_.group];
+    double* tex = tex_.data();
+    int m = 0;
+    for (const auto& [ex, S] : support) {
+      if (ex >= max_wl) break;
+      tex[m++] = std::exp(-through(ex)) * S;
+    }
+    for (int k = 0; k < lanes.count; ++k) {
+      if (lanes.w[k] == 0 || lanes.vrerad[k]) continue;
+      const int em = lanes.wl[k];
+      double fluo = 0;
+      for (const auto& f : mt_.fluorophores) {
+        const float* row = f.phi.data() + size_t(em) * n_;
+        double sf = 0;
+        for (int i = 0; i < m && support[i].first < em; ++i) sf += row[support[i].first] * tex[i];
+        fluo += f.concentration * sf;
+      }
+      if (fluo > 0) add(k, lanes.w[k] * fluo * common, true);
+    }
+  }
+
+ private:
+  // LED light scattered toward the camera path at this collision.
+  void scattered_light(const WalkState& s, const LaneCoefficients& c, const WalkLanes& lanes) {
+    const int l = s.layer;
     const StackLayerTables& L = st_.layers[l];
     const double dz = s.depth - L.top;
     const double common = c_.fresnel_t[l] * c_.top_weight / c_.mu[l] * ls_.g;
     const double hg = hg_phase(L.g, glm::dot(c_.dir[l], -s.d));
-    int max_wl = 0;
     for (int k = 0; k < lanes.count; ++k) {
-      if (lanes.w[k] == 0) continue;
-      max_wl = std::max(max_wl, lanes.wl[k]);
+      if (lanes.w[k] == 0 || lanes.vrerad[k]) continue;
       double tau = above(l, lanes.wl[k]) + double(c.mut[k]) * dz / c_.mu[l];
-      double v = lanes.w[k] * c.mus[k] * hg * std::exp(-tau) * shape_[lanes.wl[k]] * common * mis_;
-      add(k, v, lanes.fl[k]);
+      add(k, lanes.w[k] * c.mus[k] * hg * std::exp(-tau) * shape_[lanes.wl[k]] * common * mis_, lanes.fl[k]);
     }
-    if (L.fluors.empty() || L.fluors.front().emit.empty()) return;
-    // Direct excitation: LED light reaching this point unscattered, absorbed and re-emitted at each
-    // lane's wavelength; summed over the LED's bins.
+  }
+
+  // Unscattered LED light reaching this point, absorbed and re-emitted at each lane's wavelength;
+  // summed over the LED's bins.
+  void direct_excitation(const WalkState& s, const WalkLanes& lanes) {
+    const int l = s.layer;
+    const StackLayerTables& L = st_.layers[l];
+    const double dz = s.depth - L.top;
     const auto& support = st_.led_support[ls_.group];
+    const int max_wl = max_lane_wl(lanes);
     double* tex = tex_.data();
     int m = 0;
     for (const auto& [ex, S] : support) {
@@ -97,7 +167,7 @@ class WalkNee {
       tex[m++] = std::exp(-tau) * S;
     }
     if (m == 0) return;
-    const double iso = common / (4.0 * kPi);
+    const double iso = c_.fresnel_t[l] * c_.top_weight / c_.mu[l] * ls_.g / (4.0 * kPi);
     for (int k = 0; k < lanes.count; ++k) {
       if (lanes.w[k] == 0) continue;
       const int em = lanes.wl[k];
@@ -112,41 +182,76 @@ class WalkNee {
     }
   }
 
-  void base_vertex(const WalkState& s, const WalkLanes& lanes) {
-    const int l = int(st_.layers.size()) - 1;
-    if (l > c_.reach) return;
-    const double common = c_.fresnel_t[l] * c_.top_weight * ls_.g / kPi;
-    int max_wl = 0;
-    for (int k = 0; k < lanes.count; ++k) {
-      if (lanes.w[k] == 0) continue;
-      max_wl = std::max(max_wl, lanes.wl[k]);
-      const int em = lanes.wl[k];
-      add(k, lanes.w[k] * mt_.reflectance[em] * std::exp(-through(em)) * shape_[em] * mis_ * common, lanes.fl[k]);
-    }
-    if (mt_.fluorophores.empty()) return;
-    // The base's fluorophores excited by LED light that crossed every layer (summed over its bins).
+  // LED light that scattered before reaching this point, absorbed and re-emitted at each lane's
+  // wavelength: one sub-walk with excitation lanes stratified over the LED's bins in proportion to
+  // their photon shape times the layer's fluorophore absorption.
+  double subwalk_rate(const WalkState& s) const {
+    const auto& mu_eff = st_.led_mu_eff[ls_.group];
+    double D = 0;
+    for (int i = 0; i < s.layer; ++i) D += mu_eff[i] * (st_.layers[i].bottom - st_.layers[i].top);
+    D += mu_eff[s.layer] * (s.depth - st_.layers[s.layer].top);
+    return std::max(kSubwalkMinRate, kSubwalkRate * std::exp(-D));
+  }
+
+  void scattered_excitation(const WalkState& s, const WalkLanes& lanes, double rate) {
+    const int l = s.layer;
+    const StackLayerTables& L = st_.layers[l];
+    const float* f = fac_.f[l];
     const auto& support = st_.led_support[ls_.group];
-    double* tex = tex_.data();
+    const int max_wl = max_lane_wl(lanes);
+    double* q = tex_.data();
+    double total = 0;
     int m = 0;
     for (const auto& [ex, S] : support) {
       if (ex >= max_wl) break;
-      tex[m++] = std::exp(-through(ex)) * S;
+      double a = 0;
+      for (size_t j = 0; j < L.fluors.size(); ++j) a += f[j] * L.fluors[j].absorb[ex];
+      q[m++] = S * a;
+      total += S * a;
     }
+    if (!(total > 0)) return;
+    WalkLanes sub;
+    double prob[kWalkLanes];
+    for (int i = 0; i < kWalkLanes; ++i) {
+      double target = (i + rng_->next_double()) / kWalkLanes * total;
+      int b = 0;
+      for (; b + 1 < m && target >= q[b]; ++b) target -= q[b];
+      sub.wl[i] = support[b].first;
+      sub.w[i] = 1.0f;
+      prob[i] = q[b] / total;
+    }
+    WalkState ss;
+    ss.layer = l;
+    ss.depth = s.depth;
+    ss.d = sample_uniform_sphere(rng_->next_double(), rng_->next_double());
+    double acc[kWalkLanes] = {};
+    WalkNee inner(st_, mt_, fac_, ls_, c_, shape_, mis_, n_, acc, *rng_);
+    sub_walker_->walk(ss, sub, fac_, *rng_, inner);
     for (int k = 0; k < lanes.count; ++k) {
       if (lanes.w[k] == 0) continue;
       const int em = lanes.wl[k];
-      double fluo = 0;
-      for (const auto& f : mt_.fluorophores) {
-        const float* row = f.phi.data() + size_t(em) * n_;
-        double sf = 0;
-        for (int i = 0; i < m && support[i].first < em; ++i) sf += row[support[i].first] * tex[i];
-        fluo += f.concentration * sf;
+      double sum = 0;
+      for (int i = 0; i < kWalkLanes; ++i) {
+        if (sub.wl[i] >= em || acc[i] == 0) continue;
+        double sigma = 0;
+        for (size_t j = 0; j < L.fluors.size(); ++j) sigma += f[j] * L.fluors[j].emit[size_t(em) * n_ + sub.wl[i]];
+        sum += sigma * acc[i] / prob[i];
       }
-      if (fluo > 0) add(k, lanes.w[k] * fluo * common, true);
+      if (sum > 0) add(k, lanes.w[k] * sum / (kWalkLanes * rate), true);
     }
   }
 
- private:
+  // A sub-walk's visitor: next-event estimation of scattered light into `acc`, nothing else.
+  WalkNee(const StackTables& st, const MaterialTables& mt, const StackPointFactors& fac, const LightSample& ls,
+          const StackConnection& conn, const float* shape, double mis, int n, double* acc, Rng& rng)
+      : st_(st), mt_(mt), fac_(fac), ls_(ls), c_(conn), shape_(shape), mis_(mis), n_(n), acc_(acc), rng_(&rng) {}
+
+  static int max_lane_wl(const WalkLanes& lanes) {
+    int m = 0;
+    for (int k = 0; k < lanes.count; ++k)
+      if (lanes.w[k] != 0) m = std::max(m, lanes.wl[k]);
+    return m;
+  }
   // Optical depth of the full layers above layer l (and of all layers) at bin wl.
   double above(int l, int wl) const {
     double tau = 0;
@@ -156,8 +261,12 @@ class WalkNee {
   }
   double through(int wl) const { return above(int(st_.layers.size()), wl); }
   void add(int k, double v, bool fluorescent) {
-    p_.L[k] += float(v);
-    if (fluorescent) p_.Lf[k] += float(v);
+    if (acc_ != nullptr) {
+      acc_[k] += v;
+      return;
+    }
+    p_->L[k] += float(v);
+    if (fluorescent) p_->Lf[k] += float(v);
   }
 
   const StackTables& st_;
@@ -168,7 +277,10 @@ class WalkNee {
   const float* shape_;
   double mis_;
   int n_;
-  PathLanes& p_;
+  PathLanes* p_ = nullptr;
+  double* acc_ = nullptr;  // a sub-walk's sums per excitation lane
+  const StackWalker* sub_walker_ = nullptr;
+  Rng* rng_ = nullptr;
   std::vector<double> tex_;  // LED light reaching the current point, per emitting bin
 };
 
@@ -239,7 +351,8 @@ LayeredScatter layered_scatter(const MaterialTables& mt, const StackPointFactors
     if (ls.valid) {
       StackConnection conn(st, ls.wi, rng);
       if (conn.valid) {
-        WalkNee nee(st, mt, fac, ls, conn, light_shapes[ls.group].data(), mis, n, p);
+        StackWalker sub_walker = walker.without_reradiation();
+        WalkNee nee(st, mt, fac, ls, conn, light_shapes[ls.group].data(), mis, n, p, &sub_walker, &rng);
         res = walker.walk(s, lanes, fac, rng, nee);
       } else {
         NoNee none;

@@ -77,6 +77,18 @@ StackTables build_stack_tables(const LayerStack& stack, const std::vector<GridEe
     float peak = shape.empty() ? 0.0f : *std::max_element(shape.begin(), shape.end());
     for (int i = 0; i < int(shape.size()); ++i)
       if (shape[i] > 0 && shape[i] >= 1e-7f * peak) support.emplace_back(i, shape[i]);
+    std::vector<float> mu_eff;
+    for (const StackLayerTables& L : t.layers) {
+      double sum = 0, norm = 0;
+      for (const auto& [i, S] : support) {
+        double mua = L.mua[i];
+        for (const auto& f : L.fluors) mua += f.absorb[i];
+        sum += S * std::sqrt(3.0 * mua * (mua + L.mus[i] * (1.0 - L.g)));
+        norm += S;
+      }
+      mu_eff.push_back(norm > 0 ? float(sum / norm) : 0.0f);
+    }
+    t.led_mu_eff.push_back(std::move(mu_eff));
     t.led_support.push_back(std::move(support));
   }
   return t;

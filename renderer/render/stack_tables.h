@@ -42,6 +42,10 @@ struct StackTables {
   // Per LED spectrum group, the grid bins where it emits and its photon shape there: direct
   // excitation inside the stack is summed over these.
   std::vector<std::vector<std::pair<int, float>>> led_support;
+  // Per LED spectrum group and layer, the diffusion attenuation sqrt(3 mua (mua + mus (1 - g))) of
+  // its light (1/mm, photon-shape weighted): how fast scattered excitation fades with depth, which
+  // sets how often next-event estimation samples it (layered_bsdf.cpp).
+  std::vector<std::vector<float>> led_mu_eff;
   bool fluorescent() const {
     for (auto& l : layers)
       if (!l.fluors.empty()) return true;

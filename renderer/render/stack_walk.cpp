@@ -82,6 +82,7 @@ void StackWalker::scatter_lanes(WalkState& s, WalkLanes& lanes, const LaneCoeffi
     if (fluor[k]) {
       lanes.wl[k] = sample_layer_excitation(L, fac, lanes.wl[k], rng.next_float(), n_);
       lanes.fl[k] = true;
+      lanes.vrerad[k] = true;
     }
   }
   s.d = d;

@@ -43,6 +43,7 @@ struct WalkLanes {
   float w[kWalkLanes] = {};
   bool fl[kWalkLanes] = {};     // the lane's light has been re-radiated (it is fluorescence)
   bool rerad[kWalkLanes] = {};  // the lane's last vertex was a re-radiation
+  bool vrerad[kWalkLanes] = {}; // the lane has been re-radiated by a volume fluorophore in this walk
   float max_weight() const {
     float m = 0;
     for (int k = 0; k < count; ++k) m = std::max(m, w[k]);
@@ -157,6 +158,14 @@ class StackWalker {
   // Crosses an interface from index n1 into n2: the radiance-mode weight factor.
   double crossing_factor(double n1, double n2) const { return mode_ == WalkMode::kRadiance ? (n1 / n2) * (n1 / n2) : 1.0; }
 
+  // A radiance-mode walker whose lanes are never re-radiated (fluorophores only absorb): the
+  // scattered-excitation sub-walks of next-event estimation (layered_bsdf.cpp).
+  StackWalker without_reradiation() const {
+    StackWalker w = *this;
+    w.reradiate_ = false;
+    return w;
+  }
+
  private:
   enum class Boundary { kContinue, kExitTop, kExitBottom, kLost };
   Boundary cross(WalkState& s, WalkLanes& lanes, Rng& rng, glm::dvec3* exit_dir) const;
@@ -169,13 +178,14 @@ class StackWalker {
   const MaterialTables& mt_;
   int n_;
   WalkMode mode_;
+  bool reradiate_ = true;
 };
 
 template <class Visitor>
 WalkResult StackWalker::walk(WalkState& s, WalkLanes& lanes, const StackPointFactors& fac, Rng& rng, Visitor& v) const {
   WalkResult r;
   const float w_ref = std::max(lanes.max_weight(), 1e-30f);
-  const bool emit = mode_ == WalkMode::kRadiance;
+  const bool emit = mode_ == WalkMode::kRadiance && reradiate_;
   LaneCoefficients c;
   for (;;) {
     const StackLayerTables& L = st_.layers[s.layer];
