@@ -63,9 +63,13 @@ inline float layer_mut(const StackLayerTables& L, const float* fac, int wl) {
 
 // Scattered-excitation sub-walks: launched at a collision of the camera walk with probability
 // kSubwalkRate exp(-D), D the LED light's diffusion optical depth down to the collision (no less
-// than kSubwalkMinRate, so that every depth stays sampled), the estimate divided by it.
-constexpr double kSubwalkRate = 0.5;
-constexpr double kSubwalkMinRate = 0.02;
+// than kSubwalkMinRate, so that every depth stays sampled), the estimate divided by it. Measured on
+// lateral_tongue under 405 nm (time x variance of the fluorescence): rate 1 / floor 0.001 is 1.6x
+// more efficient than 0.5 / 0.02; a higher rate costs more than it saves.
+constexpr double kSubwalkRate = 1.0;
+constexpr double kSubwalkMinRate = 0.001;
+// Unscattered LED transmittance below which direct excitation is evaluated only sometimes.
+constexpr double kDirectFloor = 1e-3;
 
 // Next-event estimation at every vertex of the walk, gathered into the camera path's lanes.
 //
@@ -145,7 +149,7 @@ class WalkNee {
     const double common = c_.fresnel_t[l] * c_.top_weight / c_.mu[l] * ls_.g;
     const double hg = hg_phase(L.g, glm::dot(c_.dir[l], -s.d));
     for (int k = 0; k < lanes.count; ++k) {
-      if (lanes.w[k] == 0 || lanes.vrerad[k]) continue;
+      if (lanes.w[k] == 0 || lanes.vrerad[k] || shape_[lanes.wl[k]] == 0) continue;
       double tau = above(l, lanes.wl[k]) + double(c.mut[k]) * dz / c_.mu[l];
       add(k, lanes.w[k] * c.mus[k] * hg * std::exp(-tau) * shape_[lanes.wl[k]] * common * mis_, lanes.fl[k]);
     }
@@ -161,13 +165,19 @@ class WalkNee {
     const int max_wl = max_lane_wl(lanes);
     double* tex = tex_.data();
     int m = 0;
+    double t_max = 0;
     for (const auto& [ex, S] : support) {
       if (ex >= max_wl) break;
       double tau = above(l, ex) + double(layer_mut(L, fac_.f[l], ex)) * dz / c_.mu[l];
+      t_max = std::max(t_max, std::exp(-tau));
       tex[m++] = std::exp(-tau) * S;
     }
-    if (m == 0) return;
-    const double iso = c_.fresnel_t[l] * c_.top_weight / c_.mu[l] * ls_.g / (4.0 * kPi);
+    if (m == 0 || t_max == 0) return;
+    // Deep below the surface hardly any unscattered LED light is left: evaluate there with
+    // probability t_max / kDirectFloor (Russian roulette, unbiased).
+    double keep = std::min(1.0, t_max / kDirectFloor);
+    if (keep < 1.0 && rng_->next_double() >= keep) return;
+    const double iso = c_.fresnel_t[l] * c_.top_weight / c_.mu[l] * ls_.g / (4.0 * kPi) / keep;
     for (int k = 0; k < lanes.count; ++k) {
       if (lanes.w[k] == 0) continue;
       const int em = lanes.wl[k];
