@@ -6,8 +6,8 @@
 // at equal samples per pixel (time ratio) and at equal noise: the relative noise of each image is
 // estimated from its even and odd samples (RenderStats::relative_noise), and the time to reach a
 // common noise level is time x (noise / target)^2, so the ratio at equal noise is
-// (t_layered noise_layered^2) / (t_surface noise_surface^2). Best of two alternating runs.
-//   usage: layered_cost [--spp N] [--threads N] [--json]
+// (t_layered noise_layered^2) / (t_surface noise_surface^2). Best of --reps alternating runs.
+//   usage: layered_cost [--spp N] [--width W] [--reps N] [--threads N] [--json]
 #include <tbb/global_control.h>
 
 #include <algorithm>
@@ -23,7 +23,7 @@ using namespace ofl;
 
 namespace {
 
-Scene variant(const std::string& file, bool layered, int spp) {
+Scene variant(const std::string& file, bool layered, int spp, int width) {
   JsonFile f = JsonFile::load(file);
   nlohmann::json j = f.doc();
   if (layered) {
@@ -34,29 +34,36 @@ Scene variant(const std::string& file, bool layered, int spp) {
     j["materials"]["mouth"] = {{"type", "tissue"}, {"preset", "mucosa"}};
   }
   j["integrator"]["spp"] = spp;
+  if (width > 0) {  // same field of view, fewer pixels
+    auto& res = j["camera"]["resolution"];
+    int w = res[0], h = res[1];
+    res = {width, std::max(1, h * width / w)};
+  }
   return load_scene(JsonFile::from(j, file));
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  int spp = 32, threads = 2;
+  int spp = 32, threads = 2, width = 0, reps = 2;
   bool json = false;
   for (int i = 1; i < argc; ++i) {
     std::string a = argv[i];
     if (a == "--spp" && i + 1 < argc) spp = std::stoi(argv[++i]);
     else if (a == "--threads" && i + 1 < argc) threads = std::stoi(argv[++i]);
+    else if (a == "--width" && i + 1 < argc) width = std::stoi(argv[++i]);
+    else if (a == "--reps" && i + 1 < argc) reps = std::stoi(argv[++i]);
     else if (a == "--json") json = true;
   }
   tbb::global_control gc(tbb::global_control::max_allowed_parallelism, threads);
   const std::string file = std::string(OFL_SOURCE_DIR) + "/benchmarks/scenes/tongue_mouth_fluorescent.json";
-  Scene surface = variant(file, false, spp), layered = variant(file, true, spp);
+  Scene surface = variant(file, false, spp, width), layered = variant(file, true, spp, width);
   RenderOptions o;
   o.progress = false;
   o.aovs = false;
   RenderStats best_s, best_l;
   best_s.seconds = best_l.seconds = 1e30;
-  for (int rep = 0; rep < 2; ++rep) {
+  for (int rep = 0; rep < reps; ++rep) {
     RenderStats s = render(surface, o).stats, l = render(layered, o).stats;
     if (s.seconds < best_s.seconds) best_s = s;
     if (l.seconds < best_l.seconds) best_l = l;
@@ -64,7 +71,7 @@ int main(int argc, char** argv) {
   double time_ratio = best_l.seconds / best_s.seconds;
   double equal_noise = (best_l.seconds * best_l.relative_noise * best_l.relative_noise) /
                        (best_s.seconds * best_s.relative_noise * best_s.relative_noise);
-  nlohmann::json out = {{"scene", file}, {"spp", spp}, {"threads", threads},
+  nlohmann::json out = {{"scene", file}, {"spp", spp}, {"threads", threads}, {"width", width},
                         {"surface", {{"seconds", best_s.seconds}, {"relative_noise", best_s.relative_noise},
                                      {"camera_samples_per_second", best_s.samples_per_second()}}},
                         {"layered", {{"seconds", best_l.seconds}, {"relative_noise", best_l.relative_noise},
