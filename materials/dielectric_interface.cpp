@@ -53,16 +53,20 @@ DielectricInterface::DielectricInterface(double alpha, double n_above, double n_
     }
 }
 
+DielectricInterface::Incidence DielectricInterface::incidence(const glm::dvec3& d, double u1, double u2) const {
+  Incidence in;
+  in.flipped = d.z > 0;  // travelling up: the incident side is below
+  in.wo = -flip(d, in.flipped);
+  in.m = smooth() ? glm::dvec3(0, 0, 1) : ggx_.sample_visible_normal(in.wo, u1, u2);
+  in.ci = glm::dot(in.wo, in.m);
+  in.eta = in.flipped ? n_above_ / n_below_ : n_below_ / n_above_;
+  return in;
+}
+
 InterfaceEvent DielectricInterface::try_once(const glm::dvec3& d, double u0, double u1, double u2) const {
-  // In a frame where the incident side is +z: wo = -travel direction, m the microfacet normal.
-  const bool flipped = d.z > 0;  // travelling up: the incident side is below
-  const glm::dvec3 wo = -flip(d, flipped);
-  const glm::dvec3 m = smooth() ? glm::dvec3(0, 0, 1) : ggx_.sample_visible_normal(wo, u1, u2);
-  const double ci = glm::dot(wo, m);
+  const auto [flipped, wo, m, ci, eta] = incidence(d, u1, u2);
   InterfaceEvent e;
   if (ci <= 0) return e;
-  const double n_from = flipped ? n_below_ : n_above_, n_to = flipped ? n_above_ : n_below_;
-  const double eta = n_to / n_from;
   glm::dvec3 w;
   if (u0 < fresnel_dielectric(ci, eta)) {
     w = 2.0 * ci * m - wo;
@@ -86,14 +90,9 @@ double DielectricInterface::valid_fraction(const glm::dvec3& d) const {
 }
 
 InterfaceEvent DielectricInterface::transmit(const glm::dvec3& d, double u1, double u2) const {
-  const bool flipped = d.z > 0;
-  const glm::dvec3 wo = -flip(d, flipped);
-  const glm::dvec3 m = smooth() ? glm::dvec3(0, 0, 1) : ggx_.sample_visible_normal(wo, u1, u2);
-  const double ci = glm::dot(wo, m);
+  const auto [flipped, wo, m, ci, eta] = incidence(d, u1, u2);
   InterfaceEvent e;
   if (ci <= 0) return e;
-  const double n_from = flipped ? n_below_ : n_above_, n_to = flipped ? n_above_ : n_below_;
-  const double eta = n_to / n_from;
   glm::dvec3 w;
   if (!refract_about(wo, m, eta, &w) || w.z >= 0) return e;
   e.transmitted = true;

@@ -52,6 +52,14 @@ class DielectricInterface {
   double reflection(const glm::dvec3& wo, const glm::dvec3& wi) const;
 
  private:
+  // Travel direction d seen from its incident side (turned to +z when d travels up): the direction
+  // back along the path, a sampled visible microfacet normal, their cosine and the index ratio.
+  struct Incidence {
+    bool flipped = false;
+    glm::dvec3 wo{0, 0, 1}, m{0, 0, 1};
+    double ci = 0, eta = 1;
+  };
+  Incidence incidence(const glm::dvec3& d, double u1, double u2) const;
   InterfaceEvent try_once(const glm::dvec3& d, double u0, double u1, double u2) const;
   double alpha_ = 0, n_above_ = 1, n_below_ = 1;
   GgxCoating ggx_;

@@ -92,9 +92,13 @@ TEST(LayeredInterface, RoughInterfaceIsLosslessAndKeepsSides) {
       double V = rough.valid_fraction(d);
       EXPECT_GT(V, 0.5);
       EXPECT_LE(V, 1.0);
-      if (!from_below && theta == 0.0) EXPECT_NEAR(double(reflected) / n, fresnel_dielectric(1.0, 1.33), 0.01);
+      if (!from_below && theta == 0.0) {
+        EXPECT_NEAR(double(reflected) / n, fresnel_dielectric(1.0, 1.33), 0.01);
+      }
       // From inside the film beyond the critical angle (48.8 deg) almost everything reflects.
-      if (from_below && theta == 80.0) EXPECT_GT(double(reflected) / n, 0.9);
+      if (from_below && theta == 80.0) {
+        EXPECT_GT(double(reflected) / n, 0.9);
+      }
     }
 }
 

@@ -164,7 +164,6 @@ CheckCaseResult fluorescent_escape(long long samples, uint64_t seed) {
     const TissueLayer& L = sc.materials[0].stack.layers[0];
     const LayerFluorophore& f = L.fluorophores[0];
     const GridEem& eem = sc.eems[f.eem];
-    const int n = b->n();
     const double step = sc.grid().step_nm;
     auto albedo = eem.photon_albedo();
     const double a_peak = *std::max_element(albedo.begin(), albedo.end());

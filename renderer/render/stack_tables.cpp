@@ -22,23 +22,8 @@ StackFluorophoreTables fluorophore_tables(const LayerFluorophore& f, const GridE
   for (int i = 0; i < n; ++i) t.absorb[i] = float(f.mua_peak_per_mm * albedo[i] / peak);
   t.row_sum.assign(n, 0.0f);
   if (!emit) return t;  // absorbs, never re-emits: emit and row_cdf stay empty
-  t.emit.assign(size_t(n) * n, 0.0f);
-  t.row_cdf.assign(size_t(n) * n, 1.0f);
   const double k = f.mua_peak_per_mm * f.quantum_yield / peak;
-  for (int em = 0; em < n; ++em) {
-    double acc = 0;
-    for (int ex = 0; ex < em; ++ex) {
-      double v = k * eem.at(em, ex) * step;
-      t.emit[size_t(em) * n + ex] = float(v);
-      acc += v;
-      t.row_cdf[size_t(em) * n + ex] = float(acc);
-    }
-    t.row_sum[em] = float(acc);
-    for (int ex = 0; ex < n; ++ex) {
-      float& c = t.row_cdf[size_t(em) * n + ex];
-      c = acc > 0 && ex < em ? float(c / acc) : 1.0f;
-    }
-  }
+  tabulate_reemission(n, [&](int em, int ex) { return k * eem.at(em, ex) * step; }, t.emit, t.row_sum, t.row_cdf);
   return t;
 }
 

@@ -53,6 +53,30 @@ struct StackTables {
   }
 };
 
+// A re-emission matrix m[em * n + ex] = value(em, ex) for ex < em (Stokes), with each row's sum and
+// its normalised running sum over ex (the CDF a lane's excitation bin is drawn from; 1 where a row
+// is empty). Shared by surface fluorophores and layer fluorophores.
+template <class Value>
+void tabulate_reemission(int n, Value value, std::vector<float>& m, std::vector<float>& row_sum, std::vector<float>& row_cdf) {
+  m.assign(size_t(n) * n, 0.0f);
+  row_sum.assign(n, 0.0f);
+  row_cdf.assign(size_t(n) * n, 1.0f);
+  for (int em = 0; em < n; ++em) {
+    double acc = 0;
+    for (int ex = 0; ex < em; ++ex) {
+      double v = value(em, ex);
+      m[size_t(em) * n + ex] = float(v);
+      acc += v;
+      row_cdf[size_t(em) * n + ex] = float(acc);
+    }
+    row_sum[em] = float(acc);
+    for (int ex = 0; ex < em; ++ex) {
+      float& c = row_cdf[size_t(em) * n + ex];
+      c = acc > 0 ? float(c / acc) : 1.0f;
+    }
+  }
+}
+
 // Tabulates a layer stack; `light_shapes` are the renderer's LED photon shapes per group.
 // With fluorescence off the fluorophores still absorb but do not re-emit.
 StackTables build_stack_tables(const LayerStack& stack, const std::vector<GridEem>& eems,
