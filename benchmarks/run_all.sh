@@ -28,7 +28,13 @@ ofl="$build/oralfluor"
     python3 - "$tmp/$c.json" <<'PY'
 import json, sys
 d = json.load(open(sys.argv[1]))
-print(f"| {d['case']} | {d['spp']} | {100*d['mean_rel_error']:.3f} % | {100*d['max_rel_error']:.2f} % | {100*d['rms_pixel_rel_error']:.1f} % | {d['seconds']:.2f} |")
+if "checks" in d:  # check cases (layered tissue, MCML slabs): quantities against references
+    cs = d["checks"]
+    worst = max(abs(c["value"] - c["reference"]) / c["tolerance"] for c in cs if c["tolerance"] > 0)
+    print(f"| {d['case']} | {d['samples']} samples | {sum(c['pass'] for c in cs)}/{len(cs)} checks pass | "
+          f"worst {worst:.2f} x its tolerance | - | {d['seconds']:.2f} |")
+else:
+    print(f"| {d['case']} | {d['spp']} | {100*d['mean_rel_error']:.3f} % | {100*d['max_rel_error']:.2f} % | {100*d['rms_pixel_rel_error']:.1f} % | {d['seconds']:.2f} |")
 PY
   done
   echo

@@ -46,8 +46,8 @@ double GgxCoating::eval(const glm::dvec3& wo, const glm::dvec3& wi) const {
   return D(h) * G2(wo, wi) * F / (4.0 * wo.z * wi.z);
 }
 
-glm::dvec3 GgxCoating::sample(const glm::dvec3& wo, double u1, double u2) const {
-  // Visible-normal sampling: stretch, sample the projected hemisphere, unstretch.
+glm::dvec3 GgxCoating::sample_visible_normal(const glm::dvec3& wo, double u1, double u2) const {
+  // Visible-normal sampling (Heitz 2018): stretch, sample the projected hemisphere, unstretch.
   glm::dvec3 v = glm::normalize(glm::dvec3(alpha * wo.x, alpha * wo.y, wo.z));
   glm::dvec3 t1 = v.z < 0.9999 ? glm::normalize(glm::cross(glm::dvec3(0, 0, 1), v)) : glm::dvec3(1, 0, 0);
   glm::dvec3 t2 = glm::cross(v, t1);
@@ -56,7 +56,11 @@ glm::dvec3 GgxCoating::sample(const glm::dvec3& wo, double u1, double u2) const 
   double s = 0.5 * (1.0 + v.z);
   p2 = (1.0 - s) * std::sqrt(std::max(0.0, 1.0 - p1 * p1)) + s * p2;
   glm::dvec3 nh = p1 * t1 + p2 * t2 + std::sqrt(std::max(0.0, 1.0 - p1 * p1 - p2 * p2)) * v;
-  glm::dvec3 h = glm::normalize(glm::dvec3(alpha * nh.x, alpha * nh.y, std::max(1e-9, nh.z)));
+  return glm::normalize(glm::dvec3(alpha * nh.x, alpha * nh.y, std::max(1e-9, nh.z)));
+}
+
+glm::dvec3 GgxCoating::sample(const glm::dvec3& wo, double u1, double u2) const {
+  glm::dvec3 h = sample_visible_normal(wo, u1, u2);
   return 2.0 * glm::dot(wo, h) * h - wo;
 }
 

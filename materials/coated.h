@@ -39,6 +39,9 @@ struct GgxCoating {
   double G2(const glm::dvec3& wo, const glm::dvec3& wi) const;  // height-correlated Smith
   // Specular BRDF value (no cosine), 0 when either direction is below the surface.
   double eval(const glm::dvec3& wo, const glm::dvec3& wi) const;
+  // A microfacet normal h from the distribution of normals visible from wo (wo.z > 0, Heitz 2018):
+  // density G1(wo) max(0, wo.h) D(h) / wo.z.
+  glm::dvec3 sample_visible_normal(const glm::dvec3& wo, double u1, double u2) const;
   // Samples wi from the distribution of visible normals (Heitz 2018) reflected about h.
   glm::dvec3 sample(const glm::dvec3& wo, double u1, double u2) const;
   double pdf(const glm::dvec3& wo, const glm::dvec3& wi) const;

@@ -24,6 +24,48 @@ int load_texture(const JsonNode& n, MaterialContext& ctx) {
   return idx;
 }
 
+int load_fluorophore_eem(const JsonNode& f, MaterialContext& ctx, std::string* name) {
+  int given = f.has("name") + f.has("eem") + f.has("fluorophore");
+  if (given != 1) f.fail("give exactly one of name (library), eem (matrix CSV) or fluorophore (sidecar JSON)");
+  std::string key, what;
+  bool normalise = f.boolean_or("normalise", false);
+  std::filesystem::path base = std::filesystem::path(f.file()).parent_path();
+  if (f.has("name")) {
+    what = f.at("name").string();
+    key = "lib:" + what;
+  } else {
+    JsonNode p = f.has("eem") ? f.at("eem") : f.at("fluorophore");
+    what = p.existing_file().string();
+    key = std::filesystem::weakly_canonical(what).string() + (normalise ? "#n" : "");
+  }
+  if (name) *name = f.has("name") ? what : std::filesystem::path(what).stem().string();
+  auto it = ctx.eem_index.find(key);
+  if (it == ctx.eem_index.end()) {
+    try {
+      ctx.eems->push_back(load_fluorophore(what, ctx.grid, base, normalise));
+    } catch (const InputError& e) {
+      // Keep the original file when the problem is inside the EEM file (and say which entry named
+      // it); otherwise name this field.
+      if (!e.file().empty())
+        throw InputError(e.file(), e.field(), std::string(e.what()) + " (named by " + f.file() + " " + f.path() + ")");
+      f.fail(e.field() + ": " + e.what());
+    }
+    it = ctx.eem_index.emplace(key, static_cast<int>(ctx.eems->size()) - 1).first;
+  }
+  return it->second;
+}
+
+void parse_fluorophore_texture(const JsonNode& t, MaterialContext& ctx, int* texture, double* offset, double* scale) {
+  if (t.is_object()) {
+    t.check_keys({"file", "offset", "scale"});
+    *texture = load_texture(t.at("file"), ctx);
+    *offset = t.number_or("offset", 0.0, -1e3, 1e3);
+    *scale = t.number_or("scale", 1.0, -1e3, 1e3);
+  } else {
+    *texture = load_texture(t, ctx);
+  }
+}
+
 std::vector<FluorophoreLayer> parse_fluorophore_layers(const JsonNode& list, MaterialContext& ctx) {
   std::vector<FluorophoreLayer> out;
   if (list.size() > size_t(kMaxFluorophoresPerMaterial))
@@ -32,46 +74,10 @@ std::vector<FluorophoreLayer> parse_fluorophore_layers(const JsonNode& list, Mat
   for (size_t i = 0; i < list.size(); ++i) {
     JsonNode f = list.at(i);
     f.check_keys({"name", "eem", "fluorophore", "concentration", "texture", "normalise"});
-    int given = f.has("name") + f.has("eem") + f.has("fluorophore");
-    if (given != 1) f.fail("give exactly one of name (library), eem (matrix CSV) or fluorophore (sidecar JSON)");
-    std::string key, what;
-    bool normalise = f.boolean_or("normalise", false);
-    std::filesystem::path base = std::filesystem::path(f.file()).parent_path();
-    if (f.has("name")) {
-      what = f.at("name").string();
-      key = "lib:" + what;
-    } else {
-      JsonNode p = f.has("eem") ? f.at("eem") : f.at("fluorophore");
-      what = p.existing_file().string();
-      key = std::filesystem::weakly_canonical(what).string() + (normalise ? "#n" : "");
-    }
     FluorophoreLayer layer;
-    layer.name = f.has("name") ? what : std::filesystem::path(what).stem().string();
-    auto it = ctx.eem_index.find(key);
-    if (it == ctx.eem_index.end()) {
-      try {
-        ctx.eems->push_back(load_fluorophore(what, ctx.grid, base, normalise));
-      } catch (const InputError& e) {
-        // Keep the original file when the problem is inside the EEM file (and say which entry named
-        // it); otherwise name this field.
-        if (!e.file().empty())
-          throw InputError(e.file(), e.field(), std::string(e.what()) + " (named by " + f.file() + " " + f.path() + ")");
-        f.fail(e.field() + ": " + e.what());
-      }
-      it = ctx.eem_index.emplace(key, static_cast<int>(ctx.eems->size()) - 1).first;
-    }
-    layer.eem = it->second;
+    layer.eem = load_fluorophore_eem(f, ctx, &layer.name);
     layer.concentration = f.at("concentration").number(0.0, 1.0);
-    if (auto t = f.find("texture")) {
-      if (t->is_object()) {
-        t->check_keys({"file", "offset", "scale"});
-        layer.texture = load_texture(t->at("file"), ctx);
-        layer.texture_offset = t->number_or("offset", 0.0, -1e3, 1e3);
-        layer.texture_scale = t->number_or("scale", 1.0, -1e3, 1e3);
-      } else {
-        layer.texture = load_texture(*t, ctx);
-      }
-    }
+    if (auto t = f.find("texture")) parse_fluorophore_texture(*t, ctx, &layer.texture, &layer.texture_offset, &layer.texture_scale);
     out.push_back(layer);
   }
   return out;

@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "materials/layered.h"
+
 namespace ofl {
 
 // The renderer keeps a surface point's concentrations in a fixed array of this size; a material
@@ -35,6 +37,15 @@ struct Coating {
   double roughness = 0.15;  // GGX alpha
 };
 
+// Part of a "regions" material: where the mask texture exceeds the threshold, the surface is made of
+// another scene material (materials/regions.cpp).
+struct MaterialRegion {
+  int texture = -1;
+  double threshold = 0.5;
+  std::string material_name;
+  int material = -1;  // resolved after every material is read
+};
+
 struct Material {
   std::string name;
   std::vector<double> reflectance;        // R on the grid, 0..1
@@ -45,6 +56,15 @@ struct Material {
   Coating coating;
   std::vector<double> emission;           // Lambertian emitted radiance, W sr^-1 m^-2 nm^-1, empty = none
   int reflectance_texture = -1;           // optional grayscale map multiplying R
+  // Layered tissue (materials/layered.h): when enabled the material is the stack; `reflectance` and
+  // `fluorophores` then describe its opaque base (StackBottom::kBase) and are otherwise unused.
+  LayerStack stack;
+  // A "regions" material only dispatches: the first region whose mask exceeds its threshold at the
+  // surface point gives the material there, else `regions_base`.
+  std::vector<MaterialRegion> regions;
+  std::string regions_base_name;
+  int regions_base = -1;
+  bool dispatches() const { return regions_base >= 0 || !regions_base_name.empty(); }
 };
 
 }  // namespace ofl

@@ -54,7 +54,9 @@ Material parse_material(const std::string& name, const JsonNode& n, MaterialCont
   else if (type == "coated") m = parse_coated(n, ctx);
   else if (type == "tissue") m = parse_tissue(n, ctx);
   else if (type == "teeth") m = parse_tissue(n, ctx, "teeth");
-  else n.at("type").fail("unknown material type \"" + type + "\" (expected lambertian, fluorescent, coated, tissue, teeth)");
+  else if (type == "layered_tissue") m = parse_layered_tissue(n, ctx);
+  else if (type == "regions") m = parse_regions(n, ctx);
+  else n.at("type").fail("unknown material type \"" + type + "\" (expected lambertian, fluorescent, coated, tissue, teeth, layered_tissue, regions)");
   m.name = name;
   AlbedoCheck c = photon_albedo_check(m, *ctx.eems, *ctx.textures, ctx.grid);
   if (c.max_albedo > 1.0 + 1e-9) {

@@ -4,6 +4,8 @@
 //                     "concentration": 0.02, "texture": "map.png"}, {"eem": "my.csv", ...}]}
 //   coated.cpp       {"type": "coated", "base": <lambertian|fluorescent>, "ior": 1.33, "roughness": 0.15}
 //   tissue.cpp, teeth.cpp: oral presets built from shipped measurements (see their headers)
+//   layered_tissue.cpp  {"type": "layered_tissue", "layers": [...]}: scattering layers with volume
+//                     fluorescence under a wet coating (materials/layered.h)
 // A material whose photon albedo R(ex) + sum_k c_k integral Phi_k(em, ex) d em exceeds 1 at any
 // excitation wavelength creates energy and is rejected.
 #pragma once
@@ -43,6 +45,16 @@ std::vector<double> parse_reflectance(const JsonNode& node, const WavelengthGrid
 std::vector<double> parse_emission(const JsonNode& node, const WavelengthGrid& grid);
 std::vector<FluorophoreLayer> parse_fluorophore_layers(const JsonNode& node, MaterialContext& ctx);
 int load_texture(const JsonNode& node, MaterialContext& ctx);
+// The EEM a fluorophore entry names ({"name": library} | {"eem": matrix CSV} | {"fluorophore":
+// sidecar JSON}, optional "normalise"), loaded once per scene; returns its index in ctx.eems and
+// the display name.
+int load_fluorophore_eem(const JsonNode& entry, MaterialContext& ctx, std::string* name);
+// A fluorophore's "texture": "map.png" | {"file": ..., "offset": 1, "scale": -0.5}.
+void parse_fluorophore_texture(const JsonNode& t, MaterialContext& ctx, int* texture, double* offset, double* scale);
+// {"type": "layered_tissue", ...}: see materials/layered.h and docs/scene-format.md.
+Material parse_layered_tissue(const JsonNode& node, MaterialContext& ctx);
+// {"type": "regions", "base": <material name>, "regions": [{"mask": <png>, "material": <name>}]}.
+Material parse_regions(const JsonNode& node, MaterialContext& ctx);
 
 // Largest photon albedo over excitation wavelengths (with textures at their maximum) and where.
 struct AlbedoCheck {

@@ -8,41 +8,14 @@
 #include "renderer/render/render_job.h"
 #include "renderer/spectral/hemoglobin.h"
 #include "renderer/spectral/units.h"
+#include "tests/tissue_ratio.h"
 
 #include <filesystem>
 #include <fstream>
 
 using namespace ofl;
 
-namespace {
-// Photons per second per sr per m^2 integrated over [lo, hi] nm, averaged over the image.
-double photon_radiance(const SpectralImage& img, double lo, double hi) {
-  double s = 0;
-  for (int y = 0; y < img.height; ++y)
-    for (int x = 0; x < img.width; ++x)
-      for (int b = 0; b < img.bands(); ++b)
-        if (img.band_nm[b] >= lo && img.band_nm[b] <= hi) s += img.pixel(x, y)[b] * photons_per_joule(img.band_nm[b]) * 5.0;
-  return s / (img.width * img.height);
-}
-
-double fluorescence_ratio(const nlohmann::json& material, double led_nm) {
-  auto scene = [&](const nlohmann::json& mat) {
-    nlohmann::json j = {{"format", "oralfluor-scene"}, {"version", 1},
-                        {"integrator", {{"spp", 64}, {"max_depth", 1}, {"wavelengths", {{"min_nm", 350}, {"max_nm", 750}, {"step_nm", 5}}},
-                                        {"output_bands", {{"min_nm", 370}, {"max_nm", 720}, {"step_nm", 5}}}}},
-                        // Spectroradiometer straight above, LED at 45 degrees (no specular highlight in view).
-                        {"camera", {{"position", {0, 0, 0.1}}, {"look_at", {0, 0, 0}}, {"up", {0, 1, 0}}, {"fov_deg", 2}, {"resolution", {8, 8}}}},
-                        {"materials", {{"m", mat}}},
-                        {"geometry", {{{"type", "quad"}, {"center", {0, 0, 0}}, {"u", {0.1, 0, 0}}, {"v", {0, 0.1, 0}}, {"material", "m"}}}},
-                        {"lights", {{{"spd", {{"type", "gaussian"}, {"peak_nm", led_nm}, {"fwhm_nm", 12}}}, {"radiant_intensity_W_sr", 1.0},
-                                     {"position", {0.07, 0, 0.07}}, {"target", {0, 0, 0}}}}}};
-    return load_scene(JsonFile::from(j, "tissue_calibration.json"));
-  };
-  RenderResult t = render(scene(material));
-  RenderResult w = render(scene({{"type", "lambertian"}, {"reflectance", 1.0}}));
-  return photon_radiance(t.image, 480, 700) / photon_radiance(w.image, 370, 470);
-}
-}  // namespace
+using ofl::test::fluorescence_ratio;
 
 TEST(TissuePresets, FluorescenceRatioMatchesMeasurements) {
   // Measured (see assets/tissues/*.json "calibration"): tongue 3.3e-4..6.0e-4, lip 2.2e-4..2.7e-4,

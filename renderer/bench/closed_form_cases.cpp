@@ -189,6 +189,8 @@ std::vector<BenchCaseInfo> bench_cases() {
       {"fluorescent_disk_led", "fluorescent patch under a violet Lambertian disk LED: the disk formula with L(em) = [R L(em) + sum_ex Phi(em, ex) L(ex) dlambda] / pi; checks how next-event estimation and BSDF hits of the LED share fluorescent paths", 256},
       {"fluorescent_sphere", "closed sphere with albedo matrix A = diag(R) + Phi dlambda (NADH exciting FAD) and emission Le: L = (I - A)^-1 Le in every band (cascades, energy conservation)", 512},
       {"reradiation_only", "pure re-radiation (R = 0) under a 420-430 nm LED: exactly no radiance at or below the lowest excitation wavelength, and the closed form above it", 256},
+      {"layered_thin_limit", "the fluorescent patch as the opaque base of a layered stack whose one layer is 1 nm thick: the surface material's closed form through the layered walk", 256},
+      {"layered_fluorescent_slab", "a 0.3 mm non-scattering fluorescent layer (FAD) rendered under a point LED: per-pixel exponential attenuation in and out", 256},
   };
 }
 
@@ -202,6 +204,8 @@ BenchResult run_bench_case(const std::string& name, const BenchOptions& o) {
   if (name == "fluorescent_sphere") return fluorescent_sphere(o);
   if (name == "fluorescent_disk_led") return fluorescent_disk_led(o);
   if (name == "reradiation_only") return reradiation_only(o);
+  if (name == "layered_thin_limit") return layered_thin_limit(o);
+  if (name == "layered_fluorescent_slab") return layered_fluorescent_slab(o);
   std::string names;
   for (auto& c : bench_cases()) names += (names.empty() ? "" : ", ") + c.name;
   throw InputError("", "case \"" + name + "\"", "unknown bench case (have: " + names + ")");

@@ -38,19 +38,26 @@ json tongue_reflectance() {
 
 }  // namespace
 
-BenchResult fluorescent_patch(const BenchOptions& o, bool narrow) {
+namespace {
+
+json fluorescent_patch_material() {
+  return {{"type", "fluorescent"}, {"reflectance", tongue_reflectance()},
+          {"fluorophores", {{{"name", "NADH"}, {"concentration", 0.05}},
+                            {{"name", "FAD"}, {"concentration", 0.08}},
+                            {{"name", "collagen"}, {"concentration", 0.05}}}}};
+}
+
+// The fluorescent patch under a tilted point LED, with any material whose Lambertian albedo matrix
+// (reflectance + fluorophores of the scene's Material) is the reference.
+BenchResult patch_case(const BenchOptions& o, const std::string& name, const json& material, bool narrow) {
   json j = base_scene(o, 1, 350, 750);
   glm::dvec3 lp(0.02, 0.01, 0.06), target(-0.01, 0.0, 0.0);
   j["camera"] = {{"position", {0, 0, 0.25}}, {"look_at", {0, 0, 0}}, {"up", {0, 1, 0}}, {"fov_deg", 24}, {"resolution", {96, 96}}};
-  j["materials"] = {{"patch", {{"type", "fluorescent"}, {"reflectance", tongue_reflectance()},
-                               {"fluorophores", {{{"name", "NADH"}, {"concentration", 0.05}},
-                                                 {{"name", "FAD"}, {"concentration", 0.08}},
-                                                 {{"name", "collagen"}, {"concentration", 0.05}}}}}}};
+  j["materials"] = {{"patch", material}};
   j["geometry"] = {{{"type", "quad"}, {"center", {0, 0, 0}}, {"u", {0.4, 0, 0}}, {"v", {0, 0.4, 0}}, {"material", "patch"}}};
   json spd = narrow ? json{{"type", "gaussian"}, {"peak_nm", 385}, {"fwhm_nm", 10}} : json{{"type", "blackbody"}, {"temperature_K", 6500}};
   j["lights"] = {{{"type", "led"}, {"spd", spd}, {"radiant_intensity_W_sr", 0.5}, {"profile", {{"half_angle_deg", 30}}},
                   {"position", {lp.x, lp.y, lp.z}}, {"target", {target.x, target.y, target.z}}}};
-  std::string name = narrow ? "fluorescent_patch_385" : "fluorescent_patch";
   Rendered r = render_json(j, name);
   const Scene& sc = r.scene;
   const LedLight& led = sc.lights[0];
@@ -95,6 +102,26 @@ BenchResult fluorescent_patch(const BenchOptions& o, bool narrow) {
   }
   b.extra["fluorescence_share_of_radiance"] = fl / tot;
   return finish(b, r, o);
+}
+
+}  // namespace
+
+BenchResult fluorescent_patch(const BenchOptions& o, bool narrow) {
+  return patch_case(o, narrow ? "fluorescent_patch_385" : "fluorescent_patch", fluorescent_patch_material(), narrow);
+}
+
+// The thin-layer limit: the same fluorescent surface as the opaque base of a layered stack whose one
+// layer (index 1, absorbing and scattering) is 1 nm thick must give the surface material's closed
+// form; it exercises the stack's walk, its next-event connection to the base and the base's summed
+// direct excitation through the layer's transmittance.
+BenchResult layered_thin_limit(const BenchOptions& o) {
+  json base = fluorescent_patch_material();
+  base["type"] = "base";
+  json m = {{"type", "layered_tissue"},
+            {"layers", {{{"name", "film"}, {"thickness_mm", 1e-6}, {"ior", 1.0},
+                         {"scattering", {{"g", 0.5}, {"mus_per_mm", 5.0}}}, {"absorption", {{"baseline_per_mm", 2.0}}}}}},
+            {"bottom", base}};
+  return patch_case(o, "layered_thin_limit", m, false);
 }
 
 BenchResult fluorescent_sphere(const BenchOptions& o) {

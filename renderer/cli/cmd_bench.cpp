@@ -4,8 +4,11 @@
 #include <cmath>
 #include <cstdio>
 
+#include "renderer/bench/bench_check.h"
 #include "renderer/bench/closed_form_cases.h"
+#include "renderer/bench/mcml.h"
 #include "renderer/cli/commands.h"
+#include "renderer/core/error.h"
 
 namespace ofl {
 
@@ -15,6 +18,8 @@ void register_bench_command(CLI::App& app) {
     int spp = 0;
     uint64_t seed = 1;
     bool json = false, list = false, sampled = false;
+    std::string mci, mco;
+    long long samples = 0;
   };
   auto o = std::make_shared<Opts>();
   auto* cmd = app.add_subcommand("bench", "accuracy of the renderer against closed-form cases");
@@ -24,9 +29,45 @@ void register_bench_command(CLI::App& app) {
   cmd->add_option("--seed", o->seed, "random seed");
   cmd->add_flag("--json", o->json, "print one JSON object");
   cmd->add_flag("--sampled-excitation", o->sampled, "sample excitation wavelengths in next-event estimation instead of summing them");
+  cmd->add_option("--samples", o->samples, "walks or photons for the layered and MCML cases (default: the case's)")
+      ->check(CLI::Range(1LL, 1LL << 40));
+  cmd->add_option("--mci", o->mci, "case \"mcml\": any MCML input file (every run in it)");
+  cmd->add_option("--mco", o->mco, "case \"mcml\": MCML's output for that input, to compare with");
   cmd->callback([o] {
     if (o->list || o->name.empty()) {
-      for (auto& c : bench_cases()) std::printf("%-22s %s (default %d spp)\n", c.name.c_str(), c.description.c_str(), c.default_spp);
+      for (auto& c : bench_cases()) std::printf("%-26s %s (default %d spp)\n", c.name.c_str(), c.description.c_str(), c.default_spp);
+      for (auto& c : check_cases())
+        std::printf("%-26s %s (default %lld samples)\n", c.name.c_str(), c.description.c_str(), c.default_samples);
+      std::printf("%-26s any MCML slab: oralfluor bench mcml --mci case.mci [--mco case.mco]\n", "mcml");
+      return;
+    }
+    if (o->name == "mcml" || is_check_case(o->name)) {
+      std::vector<CheckCaseResult> rs;
+      if (o->name == "mcml") {
+        if (o->mci.empty()) throw InputError("", "--mci", "the mcml case needs an MCML input file (--mci case.mci)");
+        auto runs = read_mci(o->mci);
+        std::optional<McmlOutput> ref;
+        if (!o->mco.empty()) ref = read_mco(o->mco);
+        for (const auto& in : runs)
+          rs.push_back(mcml_case(in, ref ? &*ref : nullptr, o->samples > 0 ? o->samples : in.photons, o->seed));
+      } else {
+        rs.push_back(run_check_case(o->name, o->samples, o->seed));
+      }
+      bool pass = true;
+      for (const auto& r : rs) {
+        pass = pass && r.pass();
+        if (o->json) {
+          std::printf("%s\n", r.to_json().dump(2).c_str());
+          continue;
+        }
+        std::printf("case %s: %lld samples, %.2f s\n\n%-56s %12s %12s %12s  %s\n", r.name.c_str(), r.samples, r.seconds, "quantity",
+                    "oralfluor", "reference", "tolerance", "");
+        for (const auto& c : r.checks)
+          std::printf("%-56s %12.6g %12.6g %12.3g  %s\n", c.quantity.c_str(), c.value, c.reference, c.tolerance, c.pass() ? "ok" : "FAIL");
+        if (r.checks.empty()) std::printf("%s\n", r.extra.dump(2).c_str());
+        std::printf("\n");
+      }
+      if (!pass) throw std::runtime_error("accuracy check failed (see FAIL above)");
       return;
     }
     int spp = o->spp;

@@ -3,19 +3,20 @@
 // surface, is re-radiated: it samples an excitation wavelength in proportion to Phi(em, .) and
 // continues at that wavelength while keeping its camera wavelength for the film. Direct light from
 // the LEDs is next-event estimated with MIS for disk emitters; direct excitation of fluorophores is
-// summed over excitation wavelengths deterministically from precomputed tables. Transport is in
-// photon units.
+// summed over excitation wavelengths deterministically from precomputed tables. Layered tissue
+// (materials/layered.h) is entered through a stochastic position-free random walk that does its
+// own next-event estimation at every scattering event (renderer/render/layered_vertex.h).
+// Transport is in photon units.
 #pragma once
 #include <cstdint>
 #include <vector>
 
 #include "renderer/render/embree_scene.h"
 #include "renderer/render/render_tables.h"
+#include "renderer/render/path_lanes.h"
 #include "renderer/render/rng.h"
 
 namespace ofl {
-
-constexpr int kLanes = 8;
 
 struct RayCounts {
   uint64_t camera = 0, extension = 0, shadow = 0;
@@ -44,14 +45,35 @@ class PathTracer {
 
  private:
   struct Ray { glm::dvec3 o, d; };
+  // What a vertex hands to the next: the continuation ray's direction and its solid-angle pdf for
+  // MIS when it hits an LED (0 = count the hit fully), or no continuation.
+  struct Continuation {
+    bool ok = false;
+    glm::dvec3 wi_world{0, 0, 0};
+    double pdf = 0;
+    bool diffuse = false;  // left through a diffuse lobe (glossy regularisation)
+  };
+
   Ray camera_ray(int x, int y, Rng& rng) const;
+  void init_lanes(PathLanes& p, Rng& rng) const;
+  void hit_led(const RayHit& hit, const Ray& ray, double prev_pdf, PathLanes& p) const;
+  LightSample sample_light(const SurfacePoint& sp, const Frame& frame, Rng& rng, RayCounts& counts, RayLog* log) const;
+  Continuation surface_vertex(const SurfacePoint& sp, const Frame& frame, const glm::dvec3& wo, const MaterialTables& mt,
+                              bool diffuse_seen, PathLanes& p, Rng& rng, RayCounts& counts, RayLog* log) const;
+  Continuation layered_vertex(const SurfacePoint& sp, const Frame& frame, const glm::dvec3& wo, const MaterialTables& mt,
+                              PathLanes& p, Rng& rng, RayCounts& counts, RayLog* log) const;
+  bool roulette(PathLanes& p, int depth, Rng& rng) const;
+  double splat(const PathLanes& p, double* bands, double* fluorescence) const;
 
   const Scene& scene_;
   const EmbreeScene& embree_;
   const RenderTables& t_;
+  bool deterministic_;
   // Camera frame.
   glm::dvec3 cam_pos_, cam_right_, cam_up_, cam_fwd_;
   double tan_half_h_, tan_half_w_;
 };
+
+void record_ray(RayLog* log, const glm::dvec3& o, const glm::dvec3& d, float tmax, bool shadow);
 
 }  // namespace ofl

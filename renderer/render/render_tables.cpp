@@ -59,23 +59,8 @@ RenderTables::RenderTables(const Scene& sc, const std::vector<double>& importanc
         ft.texture_scale = float(f.texture_scale);
         ft.concentration = float(f.concentration);
         const GridEem& e = sc.eems[f.eem];
-        ft.phi.assign(size_t(n) * n, 0.0f);
-        ft.row_sum.assign(n, 0.0f);
-        ft.row_cdf.assign(size_t(n) * n, 0.0f);
-        for (int em = 0; em < n; ++em) {
-          double acc = 0;
-          for (int ex = 0; ex < em; ++ex) {
-            double v = e.at(em, ex) * step * t_out(em) * t_in(ex);
-            ft.phi[size_t(em) * n + ex] = float(v);
-            acc += v;
-            ft.row_cdf[size_t(em) * n + ex] = float(acc);
-          }
-          ft.row_sum[em] = float(acc);
-          for (int ex = 0; ex < n; ++ex) {
-            float& c = ft.row_cdf[size_t(em) * n + ex];
-            c = acc > 0 ? (ex < em ? float(c / acc) : 1.0f) : 1.0f;
-          }
-        }
+        tabulate_reemission(n, [&](int em, int ex) { return e.at(em, ex) * step * t_out(em) * t_in(ex); }, ft.phi,
+                            ft.row_sum, ft.row_cdf);
         for (const auto& shape : light_shape) {
           std::vector<float> d(n, 0.0f);
           for (int em = 0; em < n; ++em) {
@@ -88,6 +73,7 @@ RenderTables::RenderTables(const Scene& sc, const std::vector<double>& importanc
         t.fluorophores.push_back(std::move(ft));
       }
     }
+    t.stack = build_stack_tables(m.stack, sc.eems, light_shape, fluo);
     materials.push_back(std::move(t));
   }
 

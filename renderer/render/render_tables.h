@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "materials/coated.h"
+#include "renderer/render/stack_tables.h"
 #include "renderer/render/sampling.h"
 #include "renderer/scene/scene.h"
 
@@ -30,6 +31,7 @@ struct MaterialTables {
   bool coated = false;
   GgxCoating coating;
   GgxCoating coating_regularized;  // roughness raised to IntegratorSpec::regularize_glossy
+  StackTables stack;               // layered tissue (reflectance and fluorophores are then its base)
 };
 
 struct RenderTables {

@@ -109,7 +109,33 @@ void parse_geometry(Scene& sc, const JsonNode& list) {
   }
 }
 
+// "regions" materials name other materials: resolve them now that all are read. A region may not
+// itself be a regions material (no chains, no cycles).
+void resolve_regions(Scene& sc, const JsonNode& mats) {
+  for (auto& m : sc.materials) {
+    if (!m.dispatches()) continue;
+    JsonNode node = mats.at(m.name);
+    auto resolve = [&](const std::string& name, const JsonNode& where) {
+      int i = material_index(sc, name);
+      if (i < 0) where.fail("no material named \"" + name + "\" in /materials");
+      if (sc.materials[i].dispatches()) where.fail("\"" + name + "\" is itself a regions material; name a surface material");
+      return i;
+    };
+    m.regions_base = resolve(m.regions_base_name, node.at("base"));
+    for (size_t k = 0; k < m.regions.size(); ++k) m.regions[k].material = resolve(m.regions[k].material_name, node.at("regions").at(k).at("material"));
+  }
+}
+
 }  // namespace
+
+int resolve_material(const Scene& sc, int material, float u, float v) {
+  if (material < 0) return material;
+  const Material& m = sc.materials[material];
+  if (!m.dispatches()) return material;
+  for (const auto& r : m.regions)
+    if (sc.textures[r.texture].lookup(u, v) > r.threshold) return r.material;
+  return m.regions_base;
+}
 
 Scene load_scene(const std::filesystem::path& file, const SceneOverrides& ov) { return load_scene(JsonFile::load(file), ov); }
 
@@ -133,6 +159,7 @@ Scene load_scene(const JsonFile& doc, const SceneOverrides& ov) {
   MaterialContext ctx{sc.grid(), &sc.eems, &sc.textures, {}, {}};
   JsonNode mats = r.at("materials");
   for (const auto& name : mats.keys()) sc.materials.push_back(parse_material(name, mats.at(name), ctx));
+  resolve_regions(sc, mats);
   parse_geometry(sc, r.at("geometry"));
   if (sc.meshes.empty() && sc.spheres.empty() && sc.disks.empty()) r.at("geometry").fail("the scene has no geometry");
 

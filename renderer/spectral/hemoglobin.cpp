@@ -73,4 +73,24 @@ std::vector<double> apply_blood_to_reflectance(const std::vector<double>& r, con
   return out;
 }
 
+double whole_blood_mua_per_mm(double nm, double saturation, double hb_g_per_L) {
+  const auto& t = hemoglobin_tables();
+  double eps = saturation * t.oxy.eval(nm) + (1.0 - saturation) * t.deoxy.eval(nm);  // cm^-1 M^-1, base 10
+  return std::log(10.0) * eps * (hb_g_per_L / 64500.0) / 10.0;
+}
+
+Spectrum tissue_blood_mua_spectrum(double volume_fraction, double saturation, double hb_g_per_L, double vessel_radius_um) {
+  Spectrum s;
+  s.eval = [=](double nm) {
+    double mua_bl = whole_blood_mua_per_mm(nm, saturation, hb_g_per_L);
+    double packing = 1.0;
+    double x = 2.0 * mua_bl * vessel_radius_um * 1e-3;
+    if (x > 1e-9) packing = (1.0 - std::exp(-x)) / x;
+    return volume_fraction * mua_bl * packing;
+  };
+  s.kinks = hemoglobin_tables().oxy.nm;
+  s.description = "blood absorption";
+  return s;
+}
+
 }  // namespace ofl

@@ -53,4 +53,15 @@ GridEem apply_blood_to_eem(const GridEem& eem, const BloodAbsorber& b);
 std::vector<double> apply_blood_to_reflectance(const std::vector<double>& reflectance, const WavelengthGrid& grid,
                                                const BloodAbsorber& b);
 
+// Blood as a volume absorber (layered tissue): the absorption coefficient of whole blood in 1/mm,
+//   mua_blood(lambda) = ln(10) * [S eps_oxy + (1 - S) eps_deoxy] * (Hb / 64500 g/mol) / 10,
+// with Prahl's decadic molar extinction (cm^-1 M^-1), Hb in g/L, S the oxygen saturation.
+double whole_blood_mua_per_mm(double nm, double saturation, double hemoglobin_g_per_L = 150.0);
+// mua of a tissue holding blood at `volume_fraction`, in 1/mm. With vessel_radius_um > 0 the blood
+// sits in vessels of that radius instead of being spread evenly, and its absorption is reduced by
+// the pigment-packaging factor C = (1 - exp(-2 mua_bl R)) / (2 mua_bl R) (Svaasand et al. 1995;
+// van Veen et al., J Biomed Opt 2005), which matters in the Soret band where mua_bl R >> 1.
+Spectrum tissue_blood_mua_spectrum(double volume_fraction, double saturation, double hemoglobin_g_per_L = 150.0,
+                                   double vessel_radius_um = 0.0);
+
 }  // namespace ofl

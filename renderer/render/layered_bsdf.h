@@ -1,0 +1,53 @@
+// Layered tissue at a path vertex: one stochastic evaluation and sample of the stack's BSDF
+// (materials/layered.h; the walk is renderer/render/stack_walk.h; docs/layered-tissue.md).
+//
+// The stack's BSDF is never tabulated: it is evaluated and sampled by one position-free random walk
+// per vertex, as pbrt-v4's LayeredBxDF does, extended to several layers, wavelength lanes and
+// volume fluorescence:
+// 1. The caller's next-event sample (an LED point, already unoccluded) gives the light direction.
+// 2. The top interface's specular reflection toward it is evaluated in closed form (GGX).
+// 3. The top interface reflects or refracts the camera path (Fresnel, one sampled microfacet when
+//    rough). A refracted path starts the walk; at every collision (and at an opaque base) the walk
+//    connects to the light through the layers above: the refracted light direction is fixed for the
+//    walk (sampled once through a rough top, by Snell through every smooth internal interface), so
+//    the connection costs only the lanes' transmittances. A lane that scatters there adds
+//    mus * HG * T * (Fresnel transmittances) / mu with MIS; a lane that would be re-radiated adds
+//    the light absorbed at that point by each fluorophore, summed over the light's emitting bins
+//    (deterministic direct excitation, no MIS, as at surfaces).
+// 4. The continuation is the top reflection, or the walk's exit.
+// MIS between next-event estimation and the walk's exits uses one fixed function of the directions
+// (the top lobe's pdf mixed with a cosine lobe) on both sides, so the weights sum to one on every
+// path that both strategies can make; a path that reflected off an interface after its last
+// scattering event can only be made by the walk and counts fully.
+#pragma once
+#include <vector>
+
+#include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
+
+#include "renderer/render/path_lanes.h"
+#include "renderer/render/render_tables.h"
+#include "renderer/render/rng.h"
+#include "renderer/render/stack_walk.h"
+#include "renderer/scene/texture.h"
+
+namespace ofl {
+
+struct LayeredScatter {
+  bool ok = false;         // the path continues
+  glm::dvec3 wi{0, 0, 0};  // local continuation direction (z > 0)
+  double pdf = 0;          // MIS density for an LED hit along wi; 0 = count it fully
+  bool reflected = false;  // the continuation is the top interface's reflection
+  WalkResult walk;         // how the walk ended
+};
+
+// Adds the light sample's contribution (when valid) to the lanes' L/Lf and replaces the lanes'
+// throughput, wavelength and flags by the continuation's. wo is the local direction to the viewer.
+LayeredScatter layered_scatter(const MaterialTables& mt, const StackPointFactors& fac, const glm::dvec3& wo,
+                               const LightSample& ls, const std::vector<std::vector<float>>& light_shapes, int n,
+                               PathLanes& p, Rng& rng);
+
+// The texture factors of the stack's fluorophores at a surface point.
+StackPointFactors stack_point_factors(const StackTables& st, const std::vector<Texture>& textures, const glm::vec2& uv);
+
+}  // namespace ofl
