@@ -82,6 +82,8 @@ TEST(CameraDescription, ErrorsNameFileAndField) {
   EXPECT_EQ(error_field(R"({"filters": [{"type": "longpass", "edge_nm": 500, "position": "behind"}], )" + minimal_sensor() + "}"),
             "/filters/0/position");
   EXPECT_EQ(error_field(R"({"format_version": 2, )" + minimal_sensor() + "}"), "/format_version");
+  EXPECT_EQ(error_field(R"({"format": "oralfluor-camera", "version": 2, )" + minimal_sensor() + "}"), "/version");
+  EXPECT_EQ(error_field(R"({"format": "oralfluor-scene", "version": 1, )" + minimal_sensor() + "}"), "/format");
   EXPECT_EQ(error_field("{" + minimal_sensor() + ", \"seed\": -1}"), "/seed");
   // Malformed JSON names the line.
   EXPECT_EQ(error_field("{\n\"sensor\": {,\n}"), "line 2 column 12");

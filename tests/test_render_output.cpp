@@ -88,3 +88,25 @@ TEST(SpectralExr, ChannelNamesAndAttributesExactly) {
   EXPECT_EQ(0, std::memcmp(back.data.data(), r.image.data.data(), r.image.data.size() * sizeof(float)));
   EXPECT_EQ(back.attributes.at("oralfluor.spp"), "1");
 }
+
+TEST(SceneOverrides, OneSideAloneKeepsTheAspectRatioBothSetTheSize) {
+  auto file = std::filesystem::path(OFL_SOURCE_DIR) / "benchmarks/scenes/tongue_mouth.json";
+  Scene full = load_scene(file);
+  double aspect = double(full.camera.height) / full.camera.width;
+  SceneOverrides w;
+  w.width = 160;
+  Scene a = load_scene(file, w);
+  EXPECT_EQ(a.camera.width, 160);
+  EXPECT_EQ(a.camera.height, std::lround(160 * aspect));
+  SceneOverrides h;
+  h.height = 90;
+  Scene b = load_scene(file, h);
+  EXPECT_EQ(b.camera.height, 90);
+  EXPECT_EQ(b.camera.width, std::lround(90 / aspect));
+  SceneOverrides both;
+  both.width = 33;
+  both.height = 7;
+  Scene c = load_scene(file, both);
+  EXPECT_EQ(c.camera.width, 33);
+  EXPECT_EQ(c.camera.height, 7);
+}

@@ -16,6 +16,7 @@
 #include <map>
 #include <regex>
 #include <set>
+#include <sstream>
 #include <thread>
 
 #include <nlohmann/json.hpp>
@@ -354,5 +355,30 @@ TEST(SweepCli, DryRunListsEveryPointAndWritesNothing) {
   EXPECT_EQ(lines, 4) << r.out;
   EXPECT_NE(r.out.find("leds=6 distance_m=0.095"), std::string::npos) << r.out;
   EXPECT_FALSE(std::filesystem::exists(dir / "out"));
+  std::filesystem::remove_all(dir);
+}
+
+TEST(SweepCli, SppWidthHeightOverrideTheFileAndChangeThePointKeys) {
+  auto dir = fresh("overrides");
+  auto keys = [&](const std::string& extra) {
+    CmdResult r = sweep(kTiny + " -o " + (dir / "out").string() + " --dry-run" + extra, dir);
+    EXPECT_EQ(r.code, 0) << r.err;
+    std::set<std::string> k;
+    std::istringstream in(r.out);
+    std::string idx, key;
+    while (in >> idx >> key)
+      if (key.size() == 16) k.insert(key), in.ignore(1 << 20, '\n');
+      else in.ignore(1 << 20, '\n');
+    return k;
+  };
+  auto base = keys(""), spp = keys(" --spp 3"), width = keys(" --width 40");
+  EXPECT_EQ(base.size(), 4u);
+  EXPECT_EQ(spp.size(), 4u);
+  EXPECT_EQ(width.size(), 4u);
+  for (auto& k : spp) EXPECT_EQ(base.count(k), 0u) << "--spp must change every point's key";
+  for (auto& k : width) EXPECT_EQ(base.count(k), 0u) << "--width must change every point's key";
+  EXPECT_EQ(keys(" --spp 3"), spp) << "the same overrides give the same keys";
+  CmdResult bad = sweep(kTiny + " -o " + (dir / "out").string() + " --dry-run --spp 0", dir);
+  EXPECT_EQ(bad.code, 2) << bad.err;
   std::filesystem::remove_all(dir);
 }

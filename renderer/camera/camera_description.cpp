@@ -157,11 +157,15 @@ void add_sample(std::set<double>& xs, double x) {
 }  // namespace
 
 CameraDescription parse_camera(const JsonNode& root) {
-  root.check_keys({"format_version", "name", "description", "lens", "filters", "sensor", "noise", "seed"});
-  if (auto v = root.find("format_version")) {
-    int ver = v->integer();
-    if (ver != 1) v->fail("unsupported camera format version " + std::to_string(ver) + " (this build reads 1)");
-  }
+  // "format": "oralfluor-camera" + "version", as scene and sweep files; the older "format_version"
+  // is still read.
+  root.check_keys({"format", "version", "format_version", "name", "description", "lens", "filters", "sensor", "noise", "seed"});
+  if (auto f = root.find("format"); f && f->string() != "oralfluor-camera") f->fail("expected \"oralfluor-camera\"");
+  for (const char* key : {"version", "format_version"})
+    if (auto v = root.find(key)) {
+      int ver = v->integer();
+      if (ver != 1) v->fail("unsupported camera format version " + std::to_string(ver) + " (this build reads 1)");
+    }
   CameraDescription c;
   c.name = root.string_or("name", c.name);
   if (auto l = root.find("lens")) c.lens = parse_lens(*l);
@@ -245,7 +249,7 @@ nlohmann::json camera_to_json(const CameraDescription& c, double lo, double hi) 
                  {"black_level_dn", s.black_level_dn},
                  {"bit_depth", s.bit_depth},
                  {"fixed_pattern_seed", s.fixed_pattern_seed}};
-  return {{"format_version", 1}, {"name", c.name}, {"description", "QE source: " + s.qe_source},
+  return {{"format", "oralfluor-camera"}, {"version", 1}, {"name", c.name}, {"description", "QE source: " + s.qe_source},
           {"lens", lens},        {"filters", filters}, {"sensor", sensor},
           {"noise", c.noise},    {"seed", c.seed}};
 }

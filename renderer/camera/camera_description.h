@@ -5,7 +5,7 @@
 // back, which is how raw.json sidecars carry the camera to `oralfluor chroma`.
 //
 //   {
-//     "format_version": 1,
+//     "format": "oralfluor-camera", "version": 1,
 //     "name": "oraleye-like",
 //     "lens":    { "f_number": 2.4, "focal_length_mm": 3.6, "magnification": 0, "transmittance": 0.92,
 //                  "cos4": true, "sensor_cra_deg": 25 },

@@ -7,6 +7,7 @@
 #include "renderer/camera/camera_color.h"
 #include "renderer/core/error.h"
 #include "renderer/image/image_file.h"
+#include "renderer/spectral/band_coverage.h"
 
 namespace ofl {
 
@@ -22,6 +23,41 @@ std::optional<double> render_vfov_deg(const SpectralImage& img, std::vector<std:
   return v;
 }
 
+std::vector<std::string> lost_light_warnings(const SpectralImage& img, const CameraDescription& cam,
+                                             std::vector<std::string>* notes) {
+  std::vector<std::string> out;
+  auto lo = img.band_lo(), hi = img.band_hi();
+  if (lo.empty()) return out;
+  double outside = response_outside_bands(cam, lo, hi);
+  if (outside > 0.01) {
+    std::ostringstream w;
+    w << "the image's bands (" << lo.front() << "-" << hi.back() << " nm) miss " << outside * 100.0
+      << " % of the camera's response to a flat spectrum; light there is not simulated";
+    out.push_back(w.str());
+  }
+  // The render records the LEDs' summed spectrum: light they emit outside the bands (an excitation
+  // leak through the emission filter, say) never reaches the simulated sensor.
+  auto it = img.attributes.find("oralfluor.excitation_spd");
+  if (it == img.attributes.end()) return out;
+  auto j = nlohmann::json::parse(it->second, nullptr, false);
+  std::vector<double> nm, w;
+  if (!j.is_discarded() && j.is_object() && j.contains("nm") && j.contains("W_per_sr_nm")) try {
+      nm = j["nm"].get<std::vector<double>>();
+      w = j["W_per_sr_nm"].get<std::vector<double>>();
+    } catch (const nlohmann::json::exception&) {
+      nm.clear();
+    }
+  WavelengthGrid g;
+  if (nm.size() >= 2 && nm.size() == w.size()) g = {nm.front(), nm.back(), (nm.back() - nm.front()) / (nm.size() - 1)};
+  if (nm.size() < 2 || nm.size() != w.size() || !(g.step_nm > 0)) {
+    if (notes) notes->push_back("ignoring oralfluor.excitation_spd (not {nm, W_per_sr_nm} arrays of one length)");
+    return out;
+  }
+  std::string lost = coverage_warning(band_coverage(g, w, lo, hi), "the scene's LED light", lo.front(), hi.back());
+  if (!lost.empty()) out.push_back(lost + "; render with output_bands covering it (the default covers the whole grid)");
+  return out;
+}
+
 CameraRun simulate_camera(const SpectralImage& img, const CameraDescription& cam, const CameraRunOptions& opt,
                           const std::string& radiance_file) {
   CameraRun run;
@@ -34,13 +70,9 @@ CameraRun simulate_camera(const SpectralImage& img, const CameraDescription& cam
   if (auto u = img.attributes.find("emissiveUnits"); u != img.attributes.end() && u->second != "W.m^-2.sr^-1")
     run.warnings.push_back("the EXR's emissiveUnits are \"" + u->second +
                            "\", not W.m^-2.sr^-1: electron counts assume W sr^-1 m^-2 nm^-1");
-  double outside = response_outside_bands(cam, lo, hi);
-  if (outside > 0.01) {
-    std::ostringstream w;
-    w << "the image's bands (" << lo.front() << "-" << hi.back() << " nm) miss " << outside * 100.0
-      << "% of the camera's response to a flat spectrum; that light is not simulated";
-    run.warnings.push_back(w.str());
-  }
+  std::vector<std::string> lost = lost_light_warnings(img, cam, &run.warnings);
+  if (opt.strict_bands && !lost.empty()) throw InputError(radiance_file, "bands", lost.front() + " (--strict)");
+  run.warnings.insert(run.warnings.end(), lost.begin(), lost.end());
   run.expected = expected_electrons(img, cam, run.geometry);
   bool noise = opt.noise.value_or(cam.noise);
   uint64_t seed = opt.seed.value_or(cam.seed);

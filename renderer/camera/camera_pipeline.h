@@ -24,6 +24,7 @@ struct CameraRunOptions {
   std::optional<bool> noise;     // overrides the camera's "noise"
   PreviewSettings preview;
   bool write_dng = true;
+  bool strict_bands = false;  // light or response outside the image's bands is an error, not a warning
 };
 
 struct CameraRun {
@@ -37,6 +38,12 @@ struct CameraRun {
 
 // The EXR's oralfluor.vfov_deg, when present and a number.
 std::optional<double> render_vfov_deg(const SpectralImage& radiance, std::vector<std::string>* warnings);
+
+// Warnings for light the image cannot hold: the camera's response outside its bands, and the
+// share of the recorded LED spectrum (oralfluor.excitation_spd) outside them, naming the range.
+// A malformed attribute goes to `notes`.
+std::vector<std::string> lost_light_warnings(const SpectralImage& radiance, const CameraDescription& cam,
+                                             std::vector<std::string>* notes);
 
 CameraRun simulate_camera(const SpectralImage& radiance, const CameraDescription& cam, const CameraRunOptions& opt,
                           const std::string& radiance_file);

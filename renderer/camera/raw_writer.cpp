@@ -12,7 +12,7 @@ namespace ofl {
 
 nlohmann::json RawMetadata::numbers_json() const {
   return {{"format", "oralfluor-raw"},
-          {"format_version", 1},
+          {"version", 1},
           {"width", width},
           {"height", height},
           {"cfa_pattern", cfa_name(cfa)},

@@ -15,7 +15,7 @@ void register_camera_command(CLI::App& app) {
     std::string radiance, camera, out = "out";
     std::string noise, wb = "sensor", exposure = "auto";
     int64_t seed = -1;
-    bool json = false, no_dng = false;
+    bool json = false, no_dng = false, strict = false;
   };
   auto o = std::make_shared<Opts>();
   auto* cmd = app.add_subcommand("camera", "simulate a camera on a spectral radiance EXR: raw mosaic, electrons, preview");
@@ -29,6 +29,7 @@ void register_camera_command(CLI::App& app) {
   cmd->add_option("--preview-exposure", o->exposure, "auto (default) or raw (white level = 1)")
       ->check(CLI::IsMember({"auto", "raw"}));
   cmd->add_flag("--no-dng", o->no_dng, "do not write raw.dng");
+  cmd->add_flag("--strict", o->strict, "refuse (exit 2) when light or camera response lies outside the image's bands");
   cmd->add_flag("--json", o->json, "print a JSON summary on stdout");
   cmd->callback([o] {
     CameraDescription cam = load_camera(o->camera);
@@ -39,6 +40,7 @@ void register_camera_command(CLI::App& app) {
     parse_white_balance(o->wb, &opt.preview.white_balance);
     opt.preview.auto_exposure = o->exposure == "auto";
     opt.write_dng = !o->no_dng;
+    opt.strict_bands = o->strict;
     std::vector<std::string> input_warnings;
     check_radiance(img, o->radiance, &input_warnings);
     CameraRun run = simulate_camera(img, cam, opt, o->radiance);

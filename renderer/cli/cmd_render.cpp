@@ -41,6 +41,9 @@ void register_render_command(CLI::App& app) {
     std::filesystem::create_directories(out, ec);
     if (ec) throw InputError(out.string(), "", "cannot create output folder: " + ec.message());
 
+    std::vector<std::string> warnings;
+    if (auto w = led_band_warning(scene); !w.empty()) warnings.push_back(w);
+    for (auto& w : warnings) std::fprintf(stderr, "warning: %s: %s\n", scene.file.c_str(), w.c_str());
     RenderResult r = render(scene);
     write_spectral_exr(out / "radiance.exr", r.image);
     auto rgb = spectral_to_linear_srgb(r.image, 1.0);
@@ -70,7 +73,8 @@ void register_render_command(CLI::App& app) {
                         {"rays_per_second", s.rays_per_second()},
                         {"relative_noise", s.relative_noise},
                         {"radiance_exr", (out / "radiance.exr").string()},
-                        {"preview_png", (out / "preview.png").string()}};
+                        {"preview_png", (out / "preview.png").string()},
+                        {"warnings", warnings}};
     std::ofstream(out / "render.json") << j.dump(2) << "\n";
     if (o->json) {
       std::printf("%s\n", j.dump(2).c_str());

@@ -3,6 +3,7 @@
 // illumination and chromaticity metrics over named ROIs and writes results.csv, results.json and
 // report.html. Resumable (finished points are kept and skipped), shardable, and spread over ranks
 // when started under mpirun. See docs/sweep-format.md.
+#include <optional>
 #include <cstdio>
 
 #include "renderer/cli/commands.h"
@@ -16,18 +17,31 @@ void register_sweep_command(CLI::App& app) {
   struct Opts {
     std::string sweep, out, shard;
     bool json = false, report_only = false, dry_run = false, plot_files = false;
+    std::optional<int> spp, width, height;
   };
   auto o = std::make_shared<Opts>();
   auto* cmd = app.add_subcommand("sweep", "render and analyse a design of LED-ring, filter, scene or camera variations");
   cmd->add_option("sweep", o->sweep, "sweep description (JSON, see docs/sweep-format.md)")->required();
   cmd->add_option("-o,--out", o->out, "output folder (default: sweep-out/<sweep name>)");
   cmd->add_option("--shard", o->shard, "i/N: compute only the points whose index is i mod N (0 <= i < N), e.g. $SLURM_ARRAY_TASK_ID/N");
+  // The same overrides as `render`: they replace the sweep file's "render" values (and so are part of
+  // every point's key: points computed with other settings are not reused).
+  cmd->add_option("--spp", o->spp, "samples per pixel (overrides the sweep's render.spp)")->check(CLI::Range(1, 1 << 24));
+  cmd->add_option("--width", o->width, "image width (overrides render.width; alone it keeps the aspect ratio)")
+      ->check(CLI::Range(2, 16384));
+  cmd->add_option("--height", o->height, "image height (overrides render.height; alone it keeps the aspect ratio)")
+      ->check(CLI::Range(2, 16384));
   cmd->add_flag("--report-only", o->report_only, "write the report from the finished points, compute nothing");
   cmd->add_flag("--dry-run", o->dry_run, "list the design points and which are finished, compute nothing");
   cmd->add_flag("--plot-files", o->plot_files, "also write every metric plot as SVG and PNG under <out>/plots/");
   cmd->add_flag("--json", o->json, "print the summary as JSON");
   cmd->callback([o] {
     SweepSpec spec = load_sweep_spec(o->sweep);
+    if (o->spp) spec.render.spp = *o->spp;
+    if (o->width || o->height) {
+      spec.render.width = o->width;
+      spec.render.height = o->height;
+    }
     SweepRunOptions ro;
     ro.out_dir = o->out.empty() ? std::filesystem::path("sweep-out") / spec.name : std::filesystem::path(o->out);
     if (!o->shard.empty() && !parse_shard(o->shard, &ro.shard, &ro.shards))

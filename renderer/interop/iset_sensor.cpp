@@ -214,7 +214,7 @@ IsetSensorImport import_iset_sensor(const std::filesystem::path& path) {
     notes.push_back("noiseFlag 1 (shot noise only): read noise, dark current, DSNU and PRNU set to 0");
   }
   notes.push_back("ISETCam keeps the optics in the optical image, not the sensor: the lens is oralfluor's default (f/2.8, T = 1, cos^4); edit \"lens\"");
-  out.camera = {{"format_version", 1},
+  out.camera = {{"format", "oralfluor-camera"}, {"version", 1},
                 {"name", name},
                 {"description", "imported from the ISETCam sensor " + file},
                 {"lens", nlohmann::json::object()},

@@ -147,4 +147,24 @@ void describe_render(const Scene& scene, const RenderStats& st, SpectralImage& i
   img.attributes["oralfluor.excitation_spd"] = nlohmann::json({{"nm", nm}, {"W_per_sr_nm", w}}).dump();
 }
 
+BandCoverage led_light_outside_bands(const Scene& scene) {
+  const WavelengthGrid& g = scene.grid();
+  std::vector<double> w(g.size(), 0.0), lo, hi;
+  for (const auto& l : scene.lights)
+    for (int i = 0; i < g.size(); ++i) w[i] += l.spectral_intensity[i];
+  const BandSet& bs = scene.integrator.bands;
+  for (int b = 0; b < bs.size(); ++b) {
+    lo.push_back(bs.centre(b) - 0.5 * bs.step_nm);
+    hi.push_back(bs.centre(b) + 0.5 * bs.step_nm);
+  }
+  return band_coverage(g, w, lo, hi);
+}
+
+std::string led_band_warning(const Scene& scene) {
+  const BandSet& bs = scene.integrator.bands;
+  std::string w = coverage_warning(led_light_outside_bands(scene), "the LED light", bs.min_nm - 0.5 * bs.step_nm,
+                                   bs.max_nm + 0.5 * bs.step_nm);
+  return w.empty() ? w : w + " (integrator.output_bands; leave it out to write the whole grid)";
+}
+
 }  // namespace ofl

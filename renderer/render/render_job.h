@@ -8,6 +8,7 @@
 #include "renderer/image/spectral_image.h"
 #include "renderer/render/path_tracer.h"
 #include "renderer/scene/scene.h"
+#include "renderer/spectral/band_coverage.h"
 
 namespace ofl {
 
@@ -44,5 +45,11 @@ RenderResult render(const Scene& scene, const RenderOptions& options = {});
 
 // String header attributes describing the render (scene, spp, seed, camera, LED spectra).
 void describe_render(const Scene& scene, const RenderStats& stats, SpectralImage& image);
+
+// Share of the LEDs' summed spectrum outside the scene's output bands: that light is rendered but
+// not written, so no camera can see it (an excitation leak through the emission filter, say).
+BandCoverage led_light_outside_bands(const Scene& scene);
+// The warning for it ("" when at most 1 %), naming the range and the share.
+std::string led_band_warning(const Scene& scene);
 
 }  // namespace ofl

@@ -1,5 +1,6 @@
 // Reads a scene file into a Scene. Sections: "format"/"version", "integrator", "camera",
 // "materials" (name -> material), "geometry" (list), "lights" (list). See docs/scene-format.md.
+#include <algorithm>
 #include <cmath>
 #include <set>
 
@@ -31,6 +32,9 @@ IntegratorSpec parse_integrator(const JsonNode& n) {
     s.grid.step_nm = w->number_or("step_nm", s.grid.step_nm, 0.01, 1e4);
     if (auto p = s.grid.problem(); !p.empty()) w->fail(p);
   }
+  // Without output_bands the image holds the whole wavelength grid: nothing the lights emit or the
+  // surfaces re-emit is dropped before the camera (an excitation leak is the camera's question).
+  s.bands = {s.grid.min_nm, s.grid.max_nm, s.grid.step_nm};
   if (auto b = n.find("output_bands")) {
     b->check_keys({"min_nm", "max_nm", "step_nm"});
     s.bands.min_nm = b->number_or("min_nm", s.bands.min_nm, 1.0);
@@ -153,8 +157,12 @@ Scene load_scene(const JsonFile& doc, const SceneOverrides& ov) {
   if (ov.spp) sc.integrator.spp = *ov.spp;
   if (ov.seed) sc.integrator.seed = *ov.seed;
   sc.camera = parse_camera_spec(r.at("camera"));
+  // One side alone keeps the scene's aspect ratio; both set the image size exactly.
+  double aspect = double(sc.camera.height) / sc.camera.width;
   if (ov.width) sc.camera.width = *ov.width;
   if (ov.height) sc.camera.height = *ov.height;
+  if (ov.width && !ov.height) sc.camera.height = std::max(1, int(std::lround(*ov.width * aspect)));
+  if (ov.height && !ov.width) sc.camera.width = std::max(1, int(std::lround(*ov.height / aspect)));
 
   MaterialContext ctx{sc.grid(), &sc.eems, &sc.textures, {}, {}};
   JsonNode mats = r.at("materials");

@@ -175,8 +175,9 @@ nlohmann::json point_identity(const SweepSpec& spec, const DesignPoint& pt) {
   nlohmann::json rois = full["rois"];
   for (auto& r : rois)
     for (auto& t : r["textures"]) t["file"] = canonical_text(t["file"].get<std::string>());
-  // Bump identity_version whenever what a point computes changes, so old results are not reused.
-  return {{"identity_version", 2},
+  // Bump identity_version whenever what a point computes changes, so old results are not reused
+  // (3: output bands default to the whole grid).
+  return {{"identity_version", 3},
           {"scene", canonical_text(scene)},
           {"scene_text", hex16(fnv1a(slurp(scene)))},
           {"camera", canonical_text(camera)},
@@ -206,13 +207,6 @@ PointOutcome evaluate_point(const SweepSpec& spec, const DesignPoint& pt, PointR
   ov.seed = spec.render.seed;
   ov.width = spec.render.width;
   ov.height = spec.render.height;
-  if ((ov.width.has_value() != ov.height.has_value()) && docs.scene["camera"].contains("resolution")) {
-    // One side given: keep the scene's aspect ratio.
-    auto res = docs.scene["camera"]["resolution"];
-    double aspect = res[1].get<double>() / res[0].get<double>();
-    if (ov.width) ov.height = std::max(2, int(std::lround(*ov.width * aspect)));
-    else ov.width = std::max(2, int(std::lround(*ov.height / aspect)));
-  }
   Scene scene;
   CameraDescription cam;
   try {
@@ -268,13 +262,6 @@ PointOutcome evaluate_point(const SweepSpec& spec, const DesignPoint& pt, PointR
     for (int i = 0; i < grid.size(); ++i) led[i] += l.spectral_intensity[i];
   auto lo = img.band_lo(), hi = img.band_hi();
   std::vector<bool> in_band = led_band_mask(lo, hi, grid, led, spec.metrics.led_band_threshold);
-  // Light outside the film's bands is not in the image: the camera cannot see it, leaked or not.
-  double led_total = 0, led_outside = 0;
-  for (int i = 0; i < grid.size(); ++i) {
-    led_total += led[i];
-    if (grid.wavelength(i) < lo.front() || grid.wavelength(i) > hi.back()) led_outside += led[i];
-  }
-  double outside_fraction = led_total > 0 ? led_outside / led_total : 0.0;
   SignalSplit split = split_signal(img, in_band, cam, run.geometry);
   nlohmann::json led_bands = nlohmann::json::array();
   for (size_t b = 0; b < in_band.size(); ++b)
@@ -285,12 +272,6 @@ PointOutcome evaluate_point(const SweepSpec& spec, const DesignPoint& pt, PointR
 
   // ROI masks from what each pixel sees.
   std::vector<std::string> warnings = run.warnings;
-  if (outside_fraction > 0.01) {
-    char b[200];
-    std::snprintf(b, sizeof b, "%.0f %% of the LED power lies outside the output bands (%.1f-%.1f nm): excitation leaking "
-                  "there is not simulated; set render.output_bands to cover the LED", 100 * outside_fraction, lo.front(), hi.back());
-    warnings.push_back(b);
-  }
   const auto& mat = img.aovs.at("aov.material");
   const auto& au = img.aovs.at("aov.u");
   const auto& av = img.aovs.at("aov.v");
@@ -463,7 +444,7 @@ PointOutcome evaluate_point(const SweepSpec& spec, const DesignPoint& pt, PointR
                    {"seconds", stats.seconds},
                    {"lights", scene.lights.size()},
                    {"bands_nm", {lo.front(), hi.back()}},
-                   {"led_power_outside_bands", outside_fraction}};
+                   {"led_power_outside_bands", led_light_outside_bands(scene).outside_share}};
   res["camera"] = {{"name", cam.name}, {"saturated_fraction", run.summary["saturated_fraction"]}};
   res["led_band_nm"] = led_bands;
   res["scatter"] = scatter;
