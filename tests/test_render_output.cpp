@@ -9,6 +9,8 @@
 #include <tbb/global_control.h>
 
 #include <cstring>
+#include <sstream>
+#include "cli_runner.h"
 #include <filesystem>
 
 #include "renderer/core/json_node.h"
@@ -109,4 +111,27 @@ TEST(SceneOverrides, OneSideAloneKeepsTheAspectRatioBothSetTheSize) {
   Scene c = load_scene(file, both);
   EXPECT_EQ(c.camera.width, 33);
   EXPECT_EQ(c.camera.height, 7);
+}
+
+TEST(Progress, LogsGetPlainLinesWhenStderrIsNotATerminal) {
+  // popen gives the command a pipe, as a batch system's log would.
+  auto out = std::filesystem::temp_directory_path() / "ofl_progress_log";
+  std::filesystem::remove_all(out);
+  setenv("OFL_PROGRESS_SECONDS", "0.05", 1);
+  auto r = test::run_cli("render " + std::string(OFL_SOURCE_DIR) + "/benchmarks/scenes/tongue_mouth.json --width 96 --spp 256 -o " +
+                         out.string());
+  unsetenv("OFL_PROGRESS_SECONDS");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  std::istringstream in(r.output);
+  std::string line, last;
+  int lines = 0;
+  while (std::getline(in, line))
+    if (line.rfind("render: ", 0) == 0 && line.find(" %") != std::string::npos) {
+      EXPECT_EQ(line.find('\r'), std::string::npos) << "no carriage returns in a log";
+      ++lines;
+      last = line;
+    }
+  EXPECT_GE(lines, 1) << r.output;  // the final line always; more only if the render outlasts 0.05 s (not asserted: no wall clock)
+  EXPECT_NE(last.find("100.0 %"), std::string::npos) << last;
+  std::filesystem::remove_all(out);
 }

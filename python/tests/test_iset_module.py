@@ -55,11 +55,11 @@ def test_octave_loads_the_exported_scene(render, tmp_path):
     line = [l for l in p.stdout.splitlines() if "|" in l][-1]
     typ, cls, dims, psum, hfov, dist, wmax, iltype, ilsum = line.split("|")
     assert typ == "scene" and cls == "single" and iltype == "illuminant"
-    assert dims == "20 30 31"  # rows x cols x wavelengths
+    assert dims == "20 30 97"  # rows x cols x wavelengths (default bands: the whole grid, 350-830 nm)
     assert float(psum) == pytest.approx(expected_photons(img).astype(np.float64).sum(), rel=1e-12)
     assert float(hfov) == pytest.approx(2 * np.degrees(np.arctan(np.tan(np.radians(9)) * 1.5)), rel=1e-9)
     assert float(dist) == pytest.approx(0.3, rel=1e-3)
-    assert float(wmax) == 700
+    assert float(wmax) == 830
     assert float(ilsum) > 0
 
 

@@ -33,7 +33,7 @@ def test_cube_equals_cli_exr_bit_for_bit(tmp_path):
     run_cli("render", scene, "--spp", 4, "--seed", 7, "--width", 40, "--height", 30, "-o", tmp_path)
     exr = ofl.read_exr(str(tmp_path / "radiance.exr"))
     r = ofl.render(scene, spp=4, seed=7, width=40, height=30, threads=2)
-    assert r.radiance.shape == (30, 40, 31)
+    assert r.radiance.shape == (30, 40, 97)  # default bands: the whole grid, 350-830 nm every 5 nm
     assert r.radiance.max() > 0 and r.fluorescence.max() > 0  # a lit fluorescent patch, not an empty image
     assert_same_image(r.image, exr)
     assert r.image.attributes["oralfluor.excitation_spd"] == exr.attributes["oralfluor.excitation_spd"]

@@ -188,8 +188,14 @@ CameraDescription load_camera(const std::filesystem::path& file) {
 nlohmann::json spectrum_to_points_json(const Spectrum& s, double lo, double hi, double step) {
   std::set<double> xs;
   for (double k : s.kinks) add_sample(xs, k);
+  // A table that drops to zero outside its range keeps that jump exactly: no samples are added
+  // outside it ("outside": "zero" does the rest), so interpolation cannot turn the step into a
+  // 1 nm ramp (which moved the reference lines by 1 % under a 385 nm LED at a QE table starting at 380 nm).
+  bool zero_below = !s.kinks.empty() && s.eval(s.kinks.front() - 1e-3) == 0.0;
+  bool zero_above = !s.kinks.empty() && s.eval(s.kinks.back() + 1e-3) == 0.0;
   double a = std::floor(lo / step) * step, b = std::ceil(hi / step) * step;
-  for (double x = a; x <= b + 1e-9; x += step) add_sample(xs, x);
+  for (double x = a; x <= b + 1e-9; x += step)
+    if (!(zero_below && x < s.kinks.front()) && !(zero_above && x > s.kinks.back())) add_sample(xs, x);
   nlohmann::json pts = nlohmann::json::array();
   for (double x : xs) {
     if (!(x > 0)) continue;

@@ -1,5 +1,7 @@
-// Progress bar on stderr for long work (quiet when stderr is not a terminal), and SIGINT
-// handling so that long work can stop cleanly and keep what it finished.
+// Progress of long work on stderr: a bar redrawn in place on a terminal, and a plain line every few
+// seconds (OFL_PROGRESS_SECONDS, default 5) when stderr is a file or a pipe, so logs of batch jobs
+// show it too; OFL_NO_PROGRESS silences both. And SIGINT handling so that long work can stop
+// cleanly and keep what it finished.
 #pragma once
 #include <atomic>
 #include <chrono>
@@ -15,7 +17,8 @@ class ProgressBar {
   ~ProgressBar();
   void advance(int64_t n = 1);  // thread safe
   void finish();
-  static bool enabled();        // stderr is a terminal and OFL_NO_PROGRESS is unset
+  static bool enabled();        // OFL_NO_PROGRESS is unset
+  static bool terminal();       // stderr is a terminal (bar) rather than a log (lines)
 
  private:
   void draw(int64_t done);
@@ -24,7 +27,8 @@ class ProgressBar {
   std::atomic<int64_t> done_{0};
   std::mutex mu_;
   std::chrono::steady_clock::time_point start_, last_draw_;
-  bool active_, finished_ = false;
+  bool active_, tty_, finished_ = false;
+  std::chrono::milliseconds interval_;
 };
 
 // Installs a SIGINT/SIGTERM handler (idempotent). The first signal sets the flag that

@@ -8,6 +8,7 @@
 #include <map>
 
 #include "renderer/core/error.h"
+#include "renderer/core/progress.h"
 
 namespace ofl {
 
@@ -256,10 +257,12 @@ Diagnosis diagnose(const DiagnoseProblem& p, const SelectionOptions& o) {
       if (!full.state.has(c)) todo.push_back(c);
     if (todo.empty()) break;
     std::vector<CvRun> runs(todo.size());
+    ProgressBar bar("diagnose: cause " + std::to_string(step) + ", candidates", static_cast<int64_t>(todo.size()));
     auto run_one = [&](size_t k) {
       std::vector<ModelState> st;
       for (int g = 0; g < G; ++g) st.push_back(with_cause(p, current.fold_states[g], todo[k]));
       runs[k] = cross_validate(p, st, static_cast<int>(st[0].causes.size()) - 1, dg.folds, false);
+      bar.advance();
     };
     if (o.parallel)
       tbb::parallel_for(size_t(0), todo.size(), run_one);
