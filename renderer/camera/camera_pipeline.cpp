@@ -58,9 +58,67 @@ std::vector<std::string> lost_light_warnings(const SpectralImage& img, const Cam
   return out;
 }
 
-CameraRun simulate_camera(const SpectralImage& img, const CameraDescription& cam, const CameraRunOptions& opt,
+std::string exposure_suffix(double exposure_s) {
+  char b[64];
+  std::snprintf(b, sizeof b, "_%.4gms", exposure_s * 1e3);
+  return b;
+}
+
+namespace {
+
+// Value below which `pct` % of the pixels' expected electrons (own channel + dark) lie.
+double electron_percentile(const ExpectedSignal& e, double pct) {
+  std::vector<float> v(e.mosaic_e);
+  if (v.empty()) return 0.0;
+  size_t k = std::min(v.size() - 1, static_cast<size_t>(std::ceil(pct / 100.0 * v.size())) - (pct > 0 ? 1 : 0));
+  std::nth_element(v.begin(), v.begin() + k, v.end());
+  return v[k] + e.dark_e;
+}
+
+// Fixed or auto exposure. Expected electrons (photo and dark) are proportional to the exposure,
+// so one noise-free evaluation at the starting exposure gives the auto exposure in closed form.
+ExposureChoice choose_exposure(const SpectralImage& img, const CameraDescription& cam, const FieldGeometry& g,
+                               const CameraRunOptions& opt, std::vector<std::string>* warnings) {
+  ExposureChoice c;
+  double t0 = opt.exposure_s.value_or(cam.sensor.exposure_s);
+  c.exposure_s = t0;
+  c.how = {{"mode", opt.exposure_s ? "fixed (--exposure)" : "fixed (camera)"}};
+  if (opt.auto_exposure) {
+    CameraDescription at = cam;
+    at.sensor.exposure_s = t0;
+    double e = electron_percentile(expected_electrons(img, at, g), opt.auto_percentile);
+    double want = opt.auto_target * cam.sensor.full_well_e;
+    c.how = {{"mode", "auto"}, {"target_full_well", opt.auto_target}, {"percentile", opt.auto_percentile},
+             {"start_exposure_s", t0}, {"electrons_at_start", e}};
+    if (e > 0) {
+      double t = t0 * want / e;
+      constexpr double kMin = 1e-6, kMax = 60.0;
+      if (t < kMin || t > kMax) {
+        char b[200];
+        std::snprintf(b, sizeof b, "auto exposure wants %.3g s; limited to %.3g s", t, std::clamp(t, kMin, kMax));
+        warnings->push_back(b);
+        t = std::clamp(t, kMin, kMax);
+      }
+      c.exposure_s = t;
+    } else {
+      warnings->push_back("auto exposure: the image gives no electrons; the starting exposure is kept");
+    }
+  }
+  if (opt.exposure_scale != 1.0) {
+    c.how["bracket_factor"] = opt.exposure_scale;
+    c.exposure_s *= opt.exposure_scale;
+  }
+  c.how["exposure_s"] = c.exposure_s;
+  return c;
+}
+
+}  // namespace
+
+CameraRun simulate_camera(const SpectralImage& img, const CameraDescription& cam_in, const CameraRunOptions& opt,
                           const std::string& radiance_file) {
   CameraRun run;
+  run.camera = cam_in;
+  const CameraDescription& cam = run.camera;
   const SensorDescription& s = cam.sensor;
   auto lo = img.band_lo(), hi = img.band_hi();
   run.geometry = make_field_geometry(cam.lens, s, img.width, img.height, render_vfov_deg(img, &run.warnings),
@@ -73,6 +131,8 @@ CameraRun simulate_camera(const SpectralImage& img, const CameraDescription& cam
   std::vector<std::string> lost = lost_light_warnings(img, cam, &run.warnings);
   if (opt.strict_bands && !lost.empty()) throw InputError(radiance_file, "bands", lost.front() + " (--strict)");
   run.warnings.insert(run.warnings.end(), lost.begin(), lost.end());
+  run.exposure = choose_exposure(img, cam, run.geometry, opt, &run.warnings);
+  run.camera.sensor.exposure_s = run.exposure.exposure_s;
   run.expected = expected_electrons(img, cam, run.geometry);
   bool noise = opt.noise.value_or(cam.noise);
   uint64_t seed = opt.seed.value_or(cam.seed);
@@ -94,6 +154,8 @@ CameraRun simulate_camera(const SpectralImage& img, const CameraDescription& cam
   m.noise = noise;
   m.seed = seed;
   m.camera_name = cam.name;
+  m.f_number = cam.lens.f_number;
+  m.focal_length_mm = cam.lens.focal_length_mm;
   nlohmann::json attrs = nlohmann::json::object();
   for (const auto& [k, v] : img.attributes)
     if (k.rfind("oralfluor.", 0) == 0) attrs[k] = v;
@@ -136,6 +198,7 @@ CameraRun simulate_camera(const SpectralImage& img, const CameraDescription& cam
                  {"noise", noise},
                  {"seed", seed},
                  {"exposure_s", s.exposure_s},
+                 {"exposure", run.exposure.how},
                  {"total_gain_dn_per_e", s.total_gain()},
                  {"black_level_dn", m.black_level_dn},
                  {"white_level_dn", m.white_level_dn},
@@ -173,17 +236,18 @@ CameraOutputs write_camera_outputs(const CameraRun& run, const CameraDescription
   std::filesystem::create_directories(dir, ec);
   if (!std::filesystem::is_directory(dir, ec)) throw InputError(dir.string(), "", "cannot create output folder");
   CameraOutputs o;
-  o.raw_tiff = dir / "raw.tiff";
-  o.raw_json = dir / "raw.json";
-  o.electrons_exr = dir / "electrons.exr";
-  o.preview_png = dir / "camera_preview.png";  // not preview.png: the render's own preview may share the folder
+  const std::string& x = opt.output_suffix;
+  o.raw_tiff = dir / ("raw" + x + ".tiff");
+  o.raw_json = dir / ("raw" + x + ".json");
+  o.electrons_exr = dir / ("electrons" + x + ".exr");
+  o.preview_png = dir / ("camera_preview" + x + ".png");  // not preview.png: the render's own preview may share the folder
   write_raw_tiff(o.raw_tiff, run.raw.dn, run.meta);
   write_raw_sidecar(o.raw_json, run.meta);
   const auto& rad = run.meta.extra.at("radiance");
   double lo = rad.at("band_lo_nm").front().get<double>(), hi = rad.at("band_hi_nm").back().get<double>();
   CameraColor sensor_color = camera_color(cam, lo, hi, false);
   if (opt.write_dng) {
-    o.raw_dng = dir / "raw.dng";
+    o.raw_dng = dir / ("raw" + x + ".dng");
     DngColor dc;
     dc.xyz_to_camera = sensor_color.xyz_to_camera;
     dc.as_shot_neutral = sensor_color.d65_neutral;

@@ -25,6 +25,20 @@ struct CameraRunOptions {
   PreviewSettings preview;
   bool write_dng = true;
   bool strict_bands = false;  // light or response outside the image's bands is an error, not a warning
+  std::optional<double> exposure_s;  // overrides the camera's sensor.exposure_s (the start of auto exposure)
+  // Auto exposure (as ISETCam's autoExposure): the exposure at which the given percentile of the
+  // pixels' expected electrons (photo + dark, noise-free) reaches `auto_target` x full well.
+  bool auto_exposure = false;
+  double auto_target = 0.8;        // fraction of full well, in (0, 1]
+  double auto_percentile = 99.5;   // in (0, 100]
+  double exposure_scale = 1.0;     // bracketing: the exposure (fixed or auto) times this
+  std::string output_suffix;       // file names get it before the extension (raw<suffix>.tiff ...)
+};
+
+// The exposure a run uses: fixed (camera or override) or found by auto exposure; `how` says which.
+struct ExposureChoice {
+  double exposure_s = 0;
+  nlohmann::json how;
 };
 
 struct CameraRun {
@@ -34,7 +48,12 @@ struct CameraRun {
   RawMetadata meta;
   std::vector<std::string> warnings;
   nlohmann::json summary;  // per-channel means, saturation, geometry, warnings
+  CameraDescription camera; // the camera as run (its exposure is the one used)
+  ExposureChoice exposure;
 };
+
+// "raw_8.25ms": a file-name suffix naming an exposure (bracketed runs).
+std::string exposure_suffix(double exposure_s);
 
 // The EXR's oralfluor.vfov_deg, when present and a number.
 std::optional<double> render_vfov_deg(const SpectralImage& radiance, std::vector<std::string>* warnings);

@@ -1,5 +1,8 @@
 #include "renderer/camera/raw_writer.h"
 
+#include <cstdlib>
+#include <ctime>
+
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -14,6 +17,8 @@ nlohmann::json RawMetadata::numbers_json() const {
   return {{"format", "oralfluor-raw"},
           {"version", 1},
           {"width", width},
+          {"f_number", f_number},
+          {"focal_length_mm", focal_length_mm},
           {"height", height},
           {"cfa_pattern", cfa_name(cfa)},
           {"black_level_dn", black_level_dn},
@@ -49,6 +54,8 @@ RawMetadata RawMetadata::from_json(const JsonNode& n) {
   m.adc_max_dn = n.integer_or("adc_max_dn", 65535, 1, 65535);
   m.bit_depth = n.integer_or("bit_depth", 16, 1, 16);
   m.exposure_s = n.number_or("exposure_s", 0.0, 0.0);
+  m.f_number = n.number_or("f_number", 0.0, 0.0);
+  m.focal_length_mm = n.number_or("focal_length_mm", 0.0, 0.0);
   m.system_gain_dn_per_e = n.number_or("system_gain_dn_per_e", 1.0, 0.0);
   m.analog_gain = n.number_or("analog_gain", 1.0, 0.0);
   m.full_well_e = n.number_or("full_well_e", 0.0, 0.0);
@@ -139,6 +146,20 @@ TiffEntry rationals(uint16_t tag, const std::vector<double>& v, bool is_signed) 
 
 }  // namespace
 
+std::string capture_time_text() {
+  std::time_t t = std::time(nullptr);
+  if (const char* e = std::getenv("SOURCE_DATE_EPOCH")) {
+    char* end = nullptr;
+    long long v = std::strtoll(e, &end, 10);
+    if (end != e && *end == 0 && v >= 0) t = static_cast<std::time_t>(v);
+  }
+  std::tm tm{};
+  gmtime_r(&t, &tm);
+  char b[32];
+  std::strftime(b, sizeof b, "%Y:%m:%d %H:%M:%S", &tm);
+  return b;
+}
+
 void write_dng(const std::filesystem::path& file, const std::vector<uint16_t>& dn, const RawMetadata& m,
                const DngColor& color) {
   const uint32_t image_bytes = static_cast<uint32_t>(dn.size() * 2);
@@ -161,7 +182,11 @@ void write_dng(const std::filesystem::path& file, const std::vector<uint16_t>& d
   e.push_back(shorts(33421, {2, 2}));                               // CFARepeatPatternDim
   auto cell = cfa_cell(m.cfa);
   e.push_back(bytes(33422, {cell[0], cell[1], cell[2], cell[3]}));  // CFAPattern (0 R, 1 G, 2 B)
+  e.push_back(ascii(306, capture_time_text()));                     // DateTime
   e.push_back(rationals(33434, {m.exposure_s}, false));             // ExposureTime
+  if (m.f_number > 0) e.push_back(rationals(33437, {m.f_number}, false));  // FNumber
+  e.push_back(ascii(36867, capture_time_text()));                   // DateTimeOriginal
+  if (m.focal_length_mm > 0) e.push_back(rationals(37386, {m.focal_length_mm}, false));  // FocalLength
   e.push_back(bytes(50706, {1, 4, 0, 0}));                          // DNGVersion
   e.push_back(bytes(50707, {1, 1, 0, 0}));                          // DNGBackwardVersion
   e.push_back(ascii(50708, "oralfluor " + (m.camera_name.empty() ? std::string("camera") : m.camera_name)));

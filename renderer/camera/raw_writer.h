@@ -25,6 +25,8 @@ struct RawMetadata {
   int adc_max_dn = 65535;      // 2^bit_depth - 1
   int bit_depth = 16;
   double exposure_s = 0;
+  double f_number = 0;          // lens f-number (DNG FNumber)
+  double focal_length_mm = 0;   // 0: unknown (no DNG FocalLength)
   double system_gain_dn_per_e = 1;  // K at analog gain 1
   double analog_gain = 1;
   double full_well_e = 0;
@@ -40,6 +42,10 @@ struct RawMetadata {
   nlohmann::json sidecar_json() const;
   static RawMetadata from_json(const JsonNode& node);
 };
+
+// "YYYY:MM:DD HH:MM:SS" (TIFF/EXIF DateTime, UTC) of SOURCE_DATE_EPOCH when set (reproducible
+// outputs), else of now: the time the simulated picture was taken.
+std::string capture_time_text();
 
 void write_raw_tiff(const std::filesystem::path& file, const std::vector<uint16_t>& dn, const RawMetadata& meta);
 void write_raw_sidecar(const std::filesystem::path& file, const RawMetadata& meta);

@@ -1,7 +1,10 @@
 // `oralfluor camera radiance.exr --camera camera.json -o out/`: simulates a camera (lens, filter
 // stack, sensor with EMVA 1288 noise) on a spectral radiance EXR and writes raw.tiff + raw.json,
 // raw.dng, electrons.exr and camera_preview.png. See docs/camera.md.
+#include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <vector>
 
 #include "renderer/camera/camera_pipeline.h"
 #include "renderer/cli/commands.h"
@@ -10,10 +13,37 @@
 
 namespace ofl {
 
+namespace {
+
+void print_camera_run(const CameraRun& run, const CameraOutputs& out, const CameraDescription& cam,
+                      const SpectralImage& img, const std::string& radiance) {
+  const auto& s = run.summary;
+  std::printf("camera \"%s\" on %s: %dx%d, %zu bands %.1f-%.1f nm, CFA %s, noise %s (seed %llu)\n", cam.name.c_str(),
+              radiance.c_str(), img.width, img.height, img.band_nm.size(), img.band_lo().front(), img.band_hi().back(),
+              cfa_name(cam.sensor.cfa).c_str(), run.meta.noise ? "on" : "off", static_cast<unsigned long long>(run.meta.seed));
+  std::printf("exposure %.6g s (%s); field angles from %s; corner %.2f deg\n", run.exposure.exposure_s,
+              run.exposure.how.value("mode", "").c_str(), run.geometry.source_name(),
+              s["field_geometry"]["max_field_angle_deg"].get<double>());
+  std::printf("%-8s %16s %12s %14s %11s\n", "channel", "mean electrons", "mean DN", "DN - black", "saturated");
+  for (const char* c : {"R", "G", "B"}) {
+    const auto& ch = s["channels"][c];
+    std::printf("%-8s %16.2f %12.2f %14.2f %10.3f%%\n", c, ch["mean_expected_electrons"].get<double>(),
+                ch["mean_dn"].get<double>(), ch["mean_dn_above_black"].get<double>(),
+                100.0 * ch["saturated_fraction"].get<double>());
+  }
+  std::printf("wrote %s, %s,%s %s, %s\n", out.raw_tiff.string().c_str(), out.raw_json.string().c_str(),
+              out.raw_dng.empty() ? "" : (" " + out.raw_dng.string() + ",").c_str(), out.electrons_exr.string().c_str(),
+              out.preview_png.string().c_str());
+}
+
+}  // namespace
+
 void register_camera_command(CLI::App& app) {
   struct Opts {
     std::string radiance, camera, out = "out";
-    std::string noise, wb = "sensor", exposure = "auto";
+    std::string noise, wb = "sensor", exposure = "auto", sensor_exposure;
+    double target = 0.8, percentile = 99.5;
+    std::vector<double> bracket;
     int64_t seed = -1;
     bool json = false, no_dng = false, strict = false;
   };
@@ -28,6 +58,15 @@ void register_camera_command(CLI::App& app) {
       ->check(CLI::IsMember({"sensor", "gray", "grey", "none"}));
   cmd->add_option("--preview-exposure", o->exposure, "auto (default) or raw (white level = 1)")
       ->check(CLI::IsMember({"auto", "raw"}));
+  cmd->add_option("--exposure", o->sensor_exposure,
+                  "sensor exposure: seconds (overrides the camera's sensor.exposure_s) or \"auto\" (see --exposure-target)");
+  cmd->add_option("--exposure-target", o->target, "auto exposure: fraction of full well the percentile pixel reaches (default 0.8)")
+      ->check(CLI::Range(0.001, 1.0));
+  cmd->add_option("--exposure-percentile", o->percentile, "auto exposure: which pixel, as a percentile of expected electrons (default 99.5)")
+      ->check(CLI::Range(0.001, 100.0));
+  cmd->add_option("--bracket", o->bracket, "exposure bracketing: factors of the exposure, e.g. 0.25,1,4; files named by exposure (raw_8.25ms.tiff ...)")
+      ->delimiter(',')
+      ->check(CLI::Range(1e-6, 1e6));
   cmd->add_flag("--no-dng", o->no_dng, "do not write raw.dng");
   cmd->add_flag("--strict", o->strict, "refuse (exit 2) when light or camera response lies outside the image's bands");
   cmd->add_flag("--json", o->json, "print a JSON summary on stdout");
@@ -41,38 +80,40 @@ void register_camera_command(CLI::App& app) {
     opt.preview.auto_exposure = o->exposure == "auto";
     opt.write_dng = !o->no_dng;
     opt.strict_bands = o->strict;
+    if (o->sensor_exposure == "auto") {
+      opt.auto_exposure = true;
+    } else if (!o->sensor_exposure.empty()) {
+      char* end = nullptr;
+      double t = std::strtod(o->sensor_exposure.c_str(), &end);
+      if (end == o->sensor_exposure.c_str() || *end != 0 || !(t > 0) || !std::isfinite(t))
+        throw InputError("", "--exposure", "expected seconds > 0 or \"auto\" (got \"" + o->sensor_exposure + "\")");
+      opt.exposure_s = t;
+    }
+    opt.auto_target = o->target;
+    opt.auto_percentile = o->percentile;
+    std::vector<double> factors = o->bracket.empty() ? std::vector<double>{1.0} : o->bracket;
     std::vector<std::string> input_warnings;
     check_radiance(img, o->radiance, &input_warnings);
-    CameraRun run = simulate_camera(img, cam, opt, o->radiance);
-    for (auto& w : input_warnings) run.warnings.insert(run.warnings.begin(), w);
-    run.summary["warnings"] = run.warnings;
-    CameraOutputs out = write_camera_outputs(run, cam, opt, o->out);
-    nlohmann::json files = {{"raw_tiff", out.raw_tiff.string()}, {"raw_json", out.raw_json.string()},
-                            {"electrons_exr", out.electrons_exr.string()}, {"preview_png", out.preview_png.string()}};
-    if (!out.raw_dng.empty()) files["raw_dng"] = out.raw_dng.string();
-    run.summary["outputs"] = files;
-    for (auto& w : run.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
-    if (o->json) {
-      std::printf("%s\n", run.summary.dump(2).c_str());
-      return;
+    nlohmann::json brackets = nlohmann::json::array();
+    for (size_t i = 0; i < factors.size(); ++i) {
+      CameraRunOptions ok = opt;
+      ok.exposure_scale = factors[i];
+      CameraRun run = simulate_camera(img, cam, ok, o->radiance);
+      if (!o->bracket.empty()) ok.output_suffix = exposure_suffix(run.exposure.exposure_s);
+      for (auto& w : input_warnings) run.warnings.insert(run.warnings.begin(), w);
+      run.summary["warnings"] = run.warnings;
+      CameraOutputs out = write_camera_outputs(run, run.camera, ok, o->out);
+      nlohmann::json files = {{"raw_tiff", out.raw_tiff.string()}, {"raw_json", out.raw_json.string()},
+                              {"electrons_exr", out.electrons_exr.string()}, {"preview_png", out.preview_png.string()}};
+      if (!out.raw_dng.empty()) files["raw_dng"] = out.raw_dng.string();
+      run.summary["outputs"] = files;
+      if (i == 0)
+        for (auto& w : run.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
+      brackets.push_back(run.summary);
+      if (o->json) continue;
+      print_camera_run(run, out, cam, img, o->radiance);
     }
-    const auto& s = run.summary;
-    std::printf("camera \"%s\" on %s: %dx%d, %zu bands %.1f-%.1f nm, CFA %s, noise %s (seed %llu)\n", cam.name.c_str(),
-                o->radiance.c_str(), img.width, img.height, img.band_nm.size(), img.band_lo().front(),
-                img.band_hi().back(), cfa_name(cam.sensor.cfa).c_str(), run.meta.noise ? "on" : "off",
-                static_cast<unsigned long long>(run.meta.seed));
-    std::printf("field angles from %s; corner %.2f deg\n", run.geometry.source_name(),
-                s["field_geometry"]["max_field_angle_deg"].get<double>());
-    std::printf("%-8s %16s %12s %14s %11s\n", "channel", "mean electrons", "mean DN", "DN - black", "saturated");
-    for (const char* c : {"R", "G", "B"}) {
-      const auto& ch = s["channels"][c];
-      std::printf("%-8s %16.2f %12.2f %14.2f %10.3f%%\n", c, ch["mean_expected_electrons"].get<double>(),
-                  ch["mean_dn"].get<double>(), ch["mean_dn_above_black"].get<double>(),
-                  100.0 * ch["saturated_fraction"].get<double>());
-    }
-    std::printf("wrote %s, %s,%s %s, %s\n", out.raw_tiff.string().c_str(), out.raw_json.string().c_str(),
-                out.raw_dng.empty() ? "" : (" " + out.raw_dng.string() + ",").c_str(), out.electrons_exr.string().c_str(),
-                out.preview_png.string().c_str());
+    if (o->json) std::printf("%s\n", (o->bracket.empty() ? brackets[0] : nlohmann::json{{"brackets", brackets}}).dump(2).c_str());
   });
 }
 
