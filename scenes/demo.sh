@@ -17,6 +17,7 @@ cat <<TXT
 
 pictures:
   $out/preview.png          rendered spectral radiance as sRGB (what the eye would see, violet light included)
+  $out/preview_fluorescence.png  the fluorescence alone (auto-exposed on its own: a few % of the light above)
   $out/camera_preview.png   what the fluorescence camera records (demosaiced raw, 475 nm long-pass)
   $out/chroma_tongue.png    r,g chromaticity of the tongue with the fluorophore reference lines (also .svg)
 data:

@@ -7,6 +7,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "renderer/camera/camera_color.h"
+#include "renderer/camera/camera_pipeline.h"
 #include "renderer/cli/commands.h"
 #include "renderer/core/error.h"
 #include "renderer/image/png_writer.h"
@@ -15,11 +17,42 @@
 
 namespace ofl {
 
+namespace {
+
+// The fluorescent part of the radiance alone, auto-exposed on its own (under violet light it is a
+// few per cent of the reflected light and invisible in preview.png).
+std::filesystem::path write_fluorescence_preview(const SpectralImage& img, const std::filesystem::path& out) {
+  SpectralImage fl;
+  fl.resize(img.width, img.height, img.band_nm);
+  fl.data = img.fluorescence;
+  auto rgb = spectral_to_linear_srgb(fl, 1.0);
+  auto file = out / "preview_fluorescence.png";
+  write_srgb_png(file, img.width, img.height, rgb, auto_exposure(rgb));
+  return file;
+}
+
+// What the camera records (noise off), demosaiced to sRGB as `oralfluor camera` previews it.
+std::filesystem::path write_camera_preview(const SpectralImage& img, const CameraDescription& cam,
+                                           const std::filesystem::path& out, const std::string& scene) {
+  CameraRunOptions opt;
+  opt.noise = false;
+  CameraRun run = simulate_camera(img, cam, opt, scene);
+  for (auto& w : run.warnings) std::fprintf(stderr, "warning: camera preview: %s\n", w.c_str());
+  CameraColor color = camera_color(run.camera, img.band_lo().front(), img.band_hi().back(), false);
+  auto file = out / "preview_camera.png";
+  write_raw_preview_png(file, run.raw.dn, run.meta.width, run.meta.height, run.meta.cfa, run.meta.black_level_dn,
+                        run.meta.white_level_dn, color, opt.preview);
+  return file;
+}
+
+}  // namespace
+
 void register_render_command(CLI::App& app) {
   struct Opts {
     std::string scene, out = "out";
     std::optional<int> spp, width, height;
     std::optional<uint64_t> seed;
+    std::string camera;
     bool json = false;
   };
   auto o = std::make_shared<Opts>();
@@ -30,6 +63,7 @@ void register_render_command(CLI::App& app) {
   cmd->add_option("--seed", o->seed, "random seed (overrides the scene)");
   cmd->add_option("--width", o->width, "image width (overrides the scene)")->check(CLI::Range(1, 16384));
   cmd->add_option("--height", o->height, "image height (overrides the scene)")->check(CLI::Range(1, 16384));
+  cmd->add_option("--camera", o->camera, "also write preview_camera.png: the image through this camera (noise off)");
   cmd->add_flag("--json", o->json, "print statistics as JSON");
   cmd->callback([o] {
     SceneOverrides ov{o->spp, o->seed, o->width, o->height};
@@ -48,6 +82,9 @@ void register_render_command(CLI::App& app) {
     write_spectral_exr(out / "radiance.exr", r.image);
     auto rgb = spectral_to_linear_srgb(r.image, 1.0);
     write_srgb_png(out / "preview.png", r.image.width, r.image.height, rgb, auto_exposure(rgb));
+    std::vector<std::string> previews = {(out / "preview.png").string()};
+    if (!r.image.fluorescence.empty()) previews.push_back(write_fluorescence_preview(r.image, out).string());
+    if (!o->camera.empty()) previews.push_back(write_camera_preview(r.image, load_camera(o->camera), out, o->scene).string());
 
     const auto& s = r.stats;
     size_t tris = 0;
@@ -74,6 +111,7 @@ void register_render_command(CLI::App& app) {
                         {"relative_noise", s.relative_noise},
                         {"radiance_exr", (out / "radiance.exr").string()},
                         {"preview_png", (out / "preview.png").string()},
+                        {"previews", previews},
                         {"warnings", warnings}};
     std::ofstream(out / "render.json") << j.dump(2) << "\n";
     if (o->json) {
@@ -82,7 +120,9 @@ void register_render_command(CLI::App& app) {
       std::printf("rendered %dx%d at %d spp in %.2f s (+%.2f s load, %.2f s build): %.3f M camera samples/s, %.2f M wavelength samples/s, %.2f M rays/s\n",
                   scene.camera.width, scene.camera.height, s.spp_done, s.seconds, load_s, s.build_seconds,
                   s.samples_per_second() * 1e-6, s.samples_per_second() * kLanes * 1e-6, s.rays_per_second() * 1e-6);
-      std::printf("wrote %s and %s\n", (out / "radiance.exr").c_str(), (out / "preview.png").c_str());
+      std::string list;
+      for (auto& p : previews) list += (list.empty() ? "" : ", ") + p;
+      std::printf("wrote %s and %s\n", (out / "radiance.exr").c_str(), list.c_str());
     }
     if (s.interrupted)
       throw Interrupted("saved " + std::to_string(s.spp_done) + " of " + std::to_string(scene.integrator.spp) +
