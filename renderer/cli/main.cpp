@@ -8,6 +8,7 @@
 
 #include "renderer/cli/commands.h"
 #include "renderer/core/error.h"
+#include "renderer/core/memory_limit.h"
 #include "renderer/core/progress.h"
 
 int main(int argc, char** argv) {
@@ -44,6 +45,19 @@ int main(int argc, char** argv) {
   } catch (const CLI::CallForVersion& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
+    // No subcommand matched: name the word that was taken for one, rather than CLI11's
+    // "A subcommand is required".
+    if (app.get_subcommands().empty()) {
+      for (const std::string& a : app.remaining()) {
+        if (a.empty() || a[0] == '-') continue;
+        std::string names;
+        for (const CLI::App* sub : app.get_subcommands([](const CLI::App*) { return true; }))
+          names += (names.empty() ? "" : ", ") + sub->get_name();
+        std::fprintf(stderr, "error: command line: unknown subcommand \"%s\" (expected one of: %s)\n",
+                     ofl::printable(a).c_str(), names.c_str());
+        return ofl::kExitBadInput;
+      }
+    }
     std::fprintf(stderr, "error: command line: %s\n", e.what());
     return ofl::kExitBadInput;
   } catch (const ofl::InputError& e) {
@@ -52,6 +66,13 @@ int main(int argc, char** argv) {
   } catch (const ofl::Interrupted& e) {
     std::fprintf(stderr, "interrupted: %s\n", e.what());
     return ofl::kExitInterrupted;
+  } catch (const std::bad_alloc&) {
+    // Sizes read from inputs are checked before allocation (renderer/core/memory_limit.h); this is
+    // what is left: the request did not fit in the memory available at the time.
+    std::fprintf(stderr, "error: out of memory: the inputs ask for more memory than is available (limit %s, %s); "
+                 "reduce the resolution, bands, samples or mesh size\n",
+                 ofl::format_bytes(double(ofl::memory_limit_bytes())).c_str(), ofl::memory_limit_source().c_str());
+    return ofl::kExitBadInput;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "internal error: %s\n", e.what());
     return ofl::kExitInternal;

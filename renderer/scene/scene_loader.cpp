@@ -7,6 +7,7 @@
 
 #include "materials/material_parser.h"
 #include "renderer/core/error.h"
+#include "renderer/core/memory_limit.h"
 #include "renderer/mesh/gltf_reader.h"
 #include "renderer/scene/scene.h"
 #include "renderer/scene/scene_transform.h"
@@ -155,6 +156,15 @@ Scene load_scene(const JsonFile& doc, const SceneOverrides& ov) {
   sc.camera = parse_camera_spec(r.at("camera"));
   if (ov.width) sc.camera.width = *ov.width;
   if (ov.height) sc.camera.height = *ov.height;
+  {
+    // The film: per pixel and output band two double sums (radiance, fluorescence) and two float
+    // planes of the image, plus noise halves and AOVs per pixel. Checked before the scene is built.
+    const double px = double(sc.camera.width) * sc.camera.height, bands = sc.integrator.bands.size();
+    check_memory(doc.name(), ov.width || ov.height ? "--width/--height" : "/camera/resolution",
+                 px * (bands * 24.0 + 64.0),
+                 "a " + std::to_string(sc.camera.width) + "x" + std::to_string(sc.camera.height) + " render with " +
+                     std::to_string(int(bands)) + " output bands");
+  }
 
   MaterialContext ctx{sc.grid(), &sc.eems, &sc.textures, {}, {}};
   JsonNode mats = r.at("materials");
