@@ -7,6 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "renderer/core/atomic_file.h"
 #include "renderer/cli/commands.h"
 #include "renderer/core/error.h"
 #include "renderer/image/png_writer.h"
@@ -27,7 +28,7 @@ void register_render_command(CLI::App& app) {
   cmd->add_option("scene", o->scene, "scene file (JSON)")->required();
   cmd->add_option("-o,--out", o->out, "output folder (created)");
   cmd->add_option("--spp", o->spp, "samples per pixel (overrides the scene)")->check(CLI::Range(1, 1 << 24));
-  cmd->add_option("--seed", o->seed, "random seed (overrides the scene)");
+  cmd->add_option("--seed", o->seed, "random seed (overrides the scene)")->check(uint64_validator());
   cmd->add_option("--width", o->width, "image width (overrides the scene)")->check(CLI::Range(1, 16384));
   cmd->add_option("--height", o->height, "image height (overrides the scene)")->check(CLI::Range(1, 16384));
   cmd->add_flag("--json", o->json, "print statistics as JSON");
@@ -70,8 +71,10 @@ void register_render_command(CLI::App& app) {
                         {"rays_per_second", s.rays_per_second()},
                         {"relative_noise", s.relative_noise},
                         {"radiance_exr", (out / "radiance.exr").string()},
-                        {"preview_png", (out / "preview.png").string()}};
-    std::ofstream(out / "render.json") << j.dump(2) << "\n";
+                        {"preview_png", (out / "preview.png").string()},
+                        {"warnings", s.warnings}};
+    for (const auto& w : s.warnings) std::fprintf(stderr, "warning: %s: %s\n", scene.file.c_str(), w.c_str());
+    write_file_atomic(out / "render.json", j.dump(2) + "\n");
     if (o->json) {
       std::printf("%s\n", j.dump(2).c_str());
     } else {
