@@ -48,6 +48,34 @@ void rename_into_place(const std::filesystem::path& file, const std::filesystem:
   }
 }
 
+// A name that exists and is not a regular file: a folder is an error; a device or pipe
+// (/dev/null, /dev/stdout, a FIFO) is written in place, since renaming over it would replace the
+// device node itself. Returns true when `file` is such a special file.
+bool is_special(const std::filesystem::path& file) {
+  std::error_code ec;
+  auto st = std::filesystem::status(file, ec);
+  if (ec || !std::filesystem::exists(st)) return false;
+  if (std::filesystem::is_directory(st)) throw InputError(file.string(), "", "cannot write: it is a folder");
+  return !std::filesystem::is_regular_file(st);
+}
+
+void write_all(int fd, const std::string& contents, const std::filesystem::path& file, const std::filesystem::path& tmp) {
+  const char* p = contents.data();
+  size_t left = contents.size();
+  while (left > 0) {
+    ssize_t n = ::write(fd, p, left);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) {
+      int e = n < 0 ? errno : ENOSPC;
+      ::close(fd);
+      if (tmp.empty()) throw InputError(file.string(), "", std::string("cannot write: ") + std::strerror(e));
+      fail(file, tmp, "cannot write", e);
+    }
+    p += n;
+    left -= size_t(n);
+  }
+}
+
 }  // namespace
 
 std::filesystem::path temporary_for(const std::filesystem::path& file) {
@@ -57,27 +85,26 @@ std::filesystem::path temporary_for(const std::filesystem::path& file) {
 }
 
 void write_file_atomic(const std::filesystem::path& file, const std::string& contents) {
+  if (is_special(file)) {
+    int fd = ::open(file.c_str(), O_WRONLY | O_CLOEXEC);
+    if (fd < 0) throw InputError(file.string(), "", std::string("cannot write: ") + std::strerror(errno));
+    write_all(fd, contents, file, {});
+    if (::close(fd) != 0) throw InputError(file.string(), "", std::string("cannot write: ") + std::strerror(errno));
+    return;
+  }
   const auto tmp = temporary_for(file);
   int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
   if (fd < 0) throw InputError(file.string(), "", std::string("cannot write: ") + std::strerror(errno));
-  const char* p = contents.data();
-  size_t left = contents.size();
-  while (left > 0) {
-    ssize_t n = ::write(fd, p, left);
-    if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) {
-      int e = n < 0 ? errno : ENOSPC;
-      ::close(fd);
-      fail(file, tmp, "cannot write", e);
-    }
-    p += n;
-    left -= size_t(n);
-  }
+  write_all(fd, contents, file, tmp);
   finish(fd, file, tmp);  // the data reaches the disk before the name does
   rename_into_place(file, tmp);
 }
 
 void write_via_temporary(const std::filesystem::path& file, const std::function<void(const std::filesystem::path&)>& write) {
+  if (is_special(file)) {  // a device or pipe: the library writes it in place
+    write(file);
+    return;
+  }
   const auto tmp = temporary_for(file);
   try {
     write(tmp);

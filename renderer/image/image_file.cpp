@@ -15,9 +15,12 @@ void write_image_file(const std::filesystem::path& file, const OIIO::ImageSpec& 
   // notice a full disk).
   auto out = OIIO::ImageOutput::create(file.string());
   if (!out) throw InputError(file.string(), "", "cannot create an image writer: " + OIIO::geterror());
+  // OpenImageIO stamps TIFF and EXR files with the wall-clock DateTime unless one is given: an
+  // empty one keeps identical runs byte-identical.
+  OIIO::ImageSpec s = spec;
+  if (!s.find_attribute("DateTime")) s.attribute("DateTime", "");
   if (out->supports("ioproxy")) {
     OIIO::Filesystem::IOVecOutput mem;
-    OIIO::ImageSpec s = spec;
     OIIO::Filesystem::IOProxy* proxy = &mem;
     s.attribute("oiio:ioproxy", OIIO::TypeDesc::PTR, &proxy);
     if (!out->open(file.string(), s) || !out->write_image(spec.format, pixels) || !out->close())
@@ -27,7 +30,7 @@ void write_image_file(const std::filesystem::path& file, const OIIO::ImageSpec& 
     return;
   }
   write_via_temporary(file, [&](const std::filesystem::path& tmp) {
-    if (!out->open(tmp.string(), spec) || !out->write_image(spec.format, pixels) || !out->close())
+    if (!out->open(tmp.string(), s) || !out->write_image(spec.format, pixels) || !out->close())
       throw InputError(file.string(), "", "cannot write image: " + out->geterror());
   });
 }

@@ -326,6 +326,14 @@ void write_mat_file(const std::filesystem::path& file, const MatVariables& vars)
       if (Mat_VarWrite(mat.get(), v.get(), MAT_COMPRESSION_ZLIB) != 0) fail("cannot write variable \"" + name + "\" (disk full?)");
     }
     if (Mat_Close(mat.release()) != 0) fail("cannot write (disk full?)");
+    // libmatio does not report every failed write (a full disk can leave an empty or cut file and
+    // a zero return): read the file back and require every variable, data included.
+    MatPtr back(Mat_Open(tmp.string().c_str(), MAT_ACC_RDONLY));
+    if (!back) fail("cannot write: the written file does not read back (disk full?)");
+    size_t n = 0;
+    while (VarPtr v{Mat_VarReadNext(back.get())}) ++n;
+    if (n != vars.size())
+      fail("cannot write: " + std::to_string(n) + " of " + std::to_string(vars.size()) + " variables read back (disk full?)");
   });
 }
 
