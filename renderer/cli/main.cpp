@@ -8,6 +8,7 @@
 
 #include "renderer/cli/commands.h"
 #include "renderer/core/error.h"
+#include "renderer/core/message_text.h"
 #include "renderer/core/memory_limit.h"
 #include "renderer/core/progress.h"
 
@@ -58,13 +59,13 @@ int main(int argc, char** argv) {
         return ofl::kExitBadInput;
       }
     }
-    std::fprintf(stderr, "error: command line: %s\n", e.what());
+    std::fprintf(stderr, "error: command line: %s\n", ofl::one_line(e.what()).c_str());
     return ofl::kExitBadInput;
   } catch (const ofl::InputError& e) {
     std::fprintf(stderr, "error: %s\n", e.describe().c_str());
     return ofl::kExitBadInput;
   } catch (const ofl::Interrupted& e) {
-    std::fprintf(stderr, "interrupted: %s\n", e.what());
+    std::fprintf(stderr, "interrupted: %s\n", ofl::one_line(e.what()).c_str());
     return ofl::kExitInterrupted;
   } catch (const std::bad_alloc&) {
     // Sizes read from inputs are checked before allocation (renderer/core/memory_limit.h); this is
@@ -74,7 +75,7 @@ int main(int argc, char** argv) {
                  ofl::format_bytes(double(ofl::memory_limit_bytes())).c_str(), ofl::memory_limit_source().c_str());
     return ofl::kExitBadInput;
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "internal error: %s\n", e.what());
+    std::fprintf(stderr, "internal error: %s\n", ofl::one_line(e.what()).c_str());
     return ofl::kExitInternal;
   }
   return ofl::kExitOk;

@@ -61,7 +61,7 @@ static std::vector<std::pair<double, double>> read_ies_profile(const std::filesy
   while (in >> tok) {
     char* end = nullptr;
     double x = std::strtod(tok.c_str(), &end);
-    if (end == tok.c_str() || *end != '\0' || !std::isfinite(x)) throw InputError(file.string(), "after TILT", "not a number: \"" + tok + "\"");
+    if (end == tok.c_str() || *end != '\0' || !std::isfinite(x)) throw InputError(file.string(), "after TILT", "not a number: \"" + printable(tok, 40) + "\"");
     v.push_back(x);
   }
   if (v.size() < 13) throw InputError(file.string(), "header", "truncated photometric header");
