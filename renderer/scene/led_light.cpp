@@ -9,6 +9,7 @@
 
 #include "renderer/core/csv.h"
 #include "renderer/core/error.h"
+#include "renderer/scene/ies_profile.h"
 #include "renderer/spectral/spectrum_json.h"
 #include "renderer/spectral/units.h"
 
@@ -41,7 +42,7 @@ double LedLight::area() const { return kPi * radius_m * radius_m; }
 
 // Relative intensity against polar angle from an IES LM-63 photometric file (types C and B with
 // the vertical angle measured from the LED axis): candela averaged over the horizontal angles.
-static std::vector<std::pair<double, double>> read_ies_profile(const std::filesystem::path& file) {
+std::vector<std::pair<double, double>> read_ies_profile(const std::filesystem::path& file) {
   std::ifstream in(file);
   if (!in) throw InputError(file.string(), "", "cannot open IES file");
   std::string line;
