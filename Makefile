@@ -5,7 +5,7 @@ JOBS  ?= $(shell nproc)
 OFL   := $(BUILD)/oralfluor
 DEMO_OUT ?= out/demo
 
-.PHONY: all deps configure build demo test bench clean
+.PHONY: all deps configure build demo test bench clean sanitize
 
 all: build
 
@@ -26,6 +26,13 @@ test: build
 
 bench: build
 	./benchmarks/run_all.sh $(BUILD)
+
+# AddressSanitizer + UndefinedBehaviorSanitizer build of everything in build-asan/, then the suite.
+sanitize: deps
+	@cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DOFL_SANITIZE=ON > build-asan.configure.log 2>&1 || { cat build-asan.configure.log; exit 1; }
+	cmake --build build-asan -j $(JOBS)
+	cd build-asan && ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+	  ctest --output-on-failure -j $(JOBS) --timeout 1800
 
 clean:
 	rm -rf $(BUILD)

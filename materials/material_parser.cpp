@@ -60,6 +60,20 @@ Material parse_material(const std::string& name, const JsonNode& n, MaterialCont
   m.name = name;
   AlbedoCheck c = photon_albedo_check(m, *ctx.eems, *ctx.textures, ctx.grid);
   if (c.max_albedo > 1.0 + 1e-9) {
+    // An EEM that creates energy on its own (photon albedo above 1 at unit concentration) is the
+    // EEM file's fault, whatever the material does with it: name that file.
+    for (const auto& f : m.fluorophores) {
+      const GridEem& e = (*ctx.eems)[f.eem];
+      if (e.source.empty()) continue;
+      auto pa = e.photon_albedo();
+      auto worst = std::max_element(pa.begin(), pa.end());
+      if (worst == pa.end() || !(*worst > 1.0 + 1e-9)) continue;
+      std::ostringstream s;
+      s << "photon albedo (quantum yield) of this EEM is " << *worst << " > 1 at excitation "
+        << ctx.grid.wavelength(int(worst - pa.begin())) << " nm (used by material \"" << name << "\" at " << n.file() << " "
+        << n.path() << ")";
+      throw InputError(e.source, "", s.str());
+    }
     std::ostringstream s;
     s << "creates energy: photon albedo R + sum c * integral Phi = " << c.max_albedo << " > 1 at excitation " << c.at_nm
       << " nm (lower the reflectance or the concentrations)";

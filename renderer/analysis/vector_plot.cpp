@@ -9,6 +9,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "renderer/core/atomic_file.h"
 #include "renderer/core/error.h"
 #include "renderer/image/image_file.h"
 
@@ -161,9 +162,7 @@ std::string VectorPlot::to_svg() const {
 }
 
 void VectorPlot::write_svg(const std::filesystem::path& file) const {
-  std::ofstream f(file);
-  if (!f) throw InputError(file.string(), "", "cannot write SVG");
-  f << to_svg();
+  write_file_atomic(file, to_svg());
 }
 
 // ---------------------------------------------------------------------------------------------- PNG

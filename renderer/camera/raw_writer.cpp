@@ -8,6 +8,7 @@
 #include <cstring>
 #include <fstream>
 
+#include "renderer/core/atomic_file.h"
 #include "renderer/core/error.h"
 #include "renderer/image/image_file.h"
 
@@ -85,9 +86,7 @@ void write_raw_tiff(const std::filesystem::path& file, const std::vector<uint16_
 }
 
 void write_raw_sidecar(const std::filesystem::path& file, const RawMetadata& m) {
-  std::ofstream f(file);
-  if (!f) throw InputError(file.string(), "", "cannot write file");
-  f << m.sidecar_json().dump(1) << "\n";
+  write_file_atomic(file, m.sidecar_json().dump(1) + "\n");
 }
 
 // ----------------------------------------------------------------------------------------------
@@ -242,10 +241,7 @@ void write_dng(const std::filesystem::path& file, const std::vector<uint16_t>& d
       if (e[i].data.size() & 1) out.push_back(0);
     }
   for (uint16_t v : dn) put16(out, v);
-  std::ofstream f(file, std::ios::binary);
-  if (!f) throw InputError(file.string(), "", "cannot write DNG");
-  f.write(reinterpret_cast<const char*>(out.data()), static_cast<std::streamsize>(out.size()));
-  if (!f) throw InputError(file.string(), "", "cannot write DNG");
+  write_file_atomic(file, std::string(reinterpret_cast<const char*>(out.data()), out.size()));
 }
 
 // ----------------------------------------------------------------------------------------------
@@ -254,8 +250,9 @@ RawImage read_raw(const std::filesystem::path& tiff) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(tiff, ec)) throw InputError(tiff.string(), "", "file not found");
   auto in = OIIO::ImageInput::open(tiff.string());
-  if (!in) throw InputError(tiff.string(), "", "cannot read image: " + OIIO::geterror());
+  if (!in) throw InputError(tiff.string(), "", "cannot read image: " + printable(OIIO::geterror(), 200));
   const OIIO::ImageSpec& spec = in->spec();
+  check_image_spec(tiff, spec, sizeof(uint16_t));
   if (spec.nchannels != 1)
     throw InputError(tiff.string(), "", "not a raw mosaic: " + std::to_string(spec.nchannels) +
                                             " channels (expected one, as written by `oralfluor camera`)");

@@ -26,7 +26,7 @@ void register_bench_command(CLI::App& app) {
   cmd->add_option("case", o->name, "case name (see --list)");
   cmd->add_flag("--list", o->list, "list the cases");
   cmd->add_option("--spp", o->spp, "samples per pixel (default: the case's)")->check(CLI::Range(1, 1 << 20));
-  cmd->add_option("--seed", o->seed, "random seed");
+  cmd->add_option("--seed", o->seed, "random seed")->check(uint64_validator());
   cmd->add_flag("--json", o->json, "print one JSON object");
   cmd->add_flag("--sampled-excitation", o->sampled, "sample excitation wavelengths in next-event estimation instead of summing them");
   cmd->add_option("--samples", o->samples, "walks or photons for the layered and MCML cases (default: the case's)")

@@ -6,6 +6,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "renderer/core/atomic_file.h"
 #include "renderer/analysis/chroma_plot.h"
 #include "renderer/analysis/chroma_reference.h"
 #include "renderer/analysis/chromaticity.h"
@@ -81,7 +82,14 @@ static std::vector<uint8_t> material_mask(const RawImage& raw, const std::string
     throw InputError(exr, "--roi-material", "the radiance EXR has no aov.material plane (render it with oralfluor render)");
   if (img.width != raw.width || img.height != raw.height)
     throw InputError(exr, "--roi-material", "the radiance EXR and the raw image differ in size");
-  auto names = nlohmann::json::parse(img.attributes.at("oralfluor.materials"));
+  nlohmann::json names;
+  try {
+    names = nlohmann::json::parse(img.attributes.at("oralfluor.materials"));
+  } catch (const nlohmann::json::exception&) {
+  }
+  bool list = names.is_array();
+  for (auto& n : names) list = list && n.is_string();
+  if (!list) throw InputError(exr, "oralfluor.materials", "not a JSON list of material names");
   int index = -1;
   std::string have;
   for (size_t i = 0; i < names.size(); ++i) {
@@ -233,17 +241,18 @@ void register_chroma_command(CLI::App& app) {
     auto stem = dir / o->name;
     if (!write_chroma_plot(plot, stem)) warnings.push_back("no TrueType font found: PNG written without labels (the SVG has them)");
     {
-      std::ofstream cells(dir / (o->name + "_cells.csv"));
+      std::ostringstream cells;
       cells << "r,g\n";
       cells.precision(9);
       for (auto& p : stats.rg) cells << p[0] << "," << p[1] << "\n";
+      write_file_atomic(dir / (o->name + "_cells.csv"), cells.str());
     }
     nlohmann::json result = {{"raw", o->raw}, {"roi_material", o->roi_material}, {"stats", stats.to_json()}, {"reference", ref_info},
                              {"lines", nlohmann::json::array()}, {"warnings", warnings}};
     for (auto& l : lines) result["lines"].push_back(l.to_json());
     auto jpath = stem;
     jpath += ".json";
-    std::ofstream(jpath) << result.dump(1) << "\n";
+    write_file_atomic(jpath, result.dump(1) + "\n");
     auto svg = stem, png = stem;
     svg += ".svg";
     png += ".png";

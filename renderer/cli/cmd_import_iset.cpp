@@ -6,6 +6,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "renderer/core/atomic_file.h"
 #include "renderer/camera/camera_description.h"
 #include "renderer/cli/commands.h"
 #include "renderer/core/error.h"
@@ -49,8 +50,7 @@ void register_import_iset_command(CLI::App& app) {
       IsetSensorImport imp = import_iset_sensor(o->mat);
       parse_camera(JsonFile::from(imp.camera, o->mat).root());  // what we write must load
       std::string out = o->out.empty() ? "camera.json" : o->out;
-      std::ofstream f(out);
-      if (!(f << imp.camera.dump(2) << "\n")) throw InputError(out, "", "cannot write the camera file");
+      write_file_atomic(out, imp.camera.dump(2) + "\n");
       summary["output"] = out;
       summary["notes"] = imp.notes;
       for (auto& n : imp.notes) std::fprintf(stderr, "note: %s\n", n.c_str());

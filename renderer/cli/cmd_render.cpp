@@ -9,6 +9,7 @@
 
 #include "renderer/camera/camera_color.h"
 #include "renderer/camera/camera_pipeline.h"
+#include "renderer/core/atomic_file.h"
 #include "renderer/cli/commands.h"
 #include "renderer/core/error.h"
 #include "renderer/image/png_writer.h"
@@ -60,7 +61,7 @@ void register_render_command(CLI::App& app) {
   cmd->add_option("scene", o->scene, "scene file (JSON)")->required();
   cmd->add_option("-o,--out", o->out, "output folder (created)");
   cmd->add_option("--spp", o->spp, "samples per pixel (overrides the scene)")->check(CLI::Range(1, 1 << 24));
-  cmd->add_option("--seed", o->seed, "random seed (overrides the scene)");
+  cmd->add_option("--seed", o->seed, "random seed (overrides the scene)")->check(uint64_validator());
   cmd->add_option("--width", o->width, "image width (overrides the scene)")->check(CLI::Range(1, 16384));
   cmd->add_option("--height", o->height, "image height (overrides the scene)")->check(CLI::Range(1, 16384));
   cmd->add_option("--camera", o->camera, "also write preview_camera.png: the image through this camera (noise off)");
@@ -87,6 +88,8 @@ void register_render_command(CLI::App& app) {
     if (!o->camera.empty()) previews.push_back(write_camera_preview(r.image, load_camera(o->camera), out, o->scene).string());
 
     const auto& s = r.stats;
+    std::vector<std::string> all_warnings = warnings;
+    all_warnings.insert(all_warnings.end(), s.warnings.begin(), s.warnings.end());
     size_t tris = 0;
     for (auto& m : scene.meshes) tris += m.triangle_count();
     nlohmann::json j = {{"scene", scene.file},
@@ -112,8 +115,9 @@ void register_render_command(CLI::App& app) {
                         {"radiance_exr", (out / "radiance.exr").string()},
                         {"preview_png", (out / "preview.png").string()},
                         {"previews", previews},
-                        {"warnings", warnings}};
-    std::ofstream(out / "render.json") << j.dump(2) << "\n";
+                        {"warnings", all_warnings}};
+    for (const auto& w : s.warnings) std::fprintf(stderr, "warning: %s: %s\n", scene.file.c_str(), w.c_str());
+    write_file_atomic(out / "render.json", j.dump(2) + "\n");
     if (o->json) {
       std::printf("%s\n", j.dump(2).c_str());
     } else {

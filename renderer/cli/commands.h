@@ -11,6 +11,10 @@ struct GlobalOptions {
 };
 GlobalOptions& global_options();
 
+// For 64-bit unsigned options (seeds): only decimal digits, at most 18446744073709551615. CLI11's
+// own conversion would turn "-1" and "18446744073709551616" into 18446744073709551615 silently.
+CLI::Validator uint64_validator();
+
 void register_render_command(CLI::App& app);
 void register_bench_command(CLI::App& app);
 void register_camera_command(CLI::App& app);

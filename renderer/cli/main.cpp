@@ -8,6 +8,8 @@
 
 #include "renderer/cli/commands.h"
 #include "renderer/core/error.h"
+#include "renderer/core/message_text.h"
+#include "renderer/core/memory_limit.h"
 #include "renderer/core/progress.h"
 
 int main(int argc, char** argv) {
@@ -44,16 +46,36 @@ int main(int argc, char** argv) {
   } catch (const CLI::CallForVersion& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
-    std::fprintf(stderr, "error: command line: %s\n", e.what());
+    // No subcommand matched: name the word that was taken for one, rather than CLI11's
+    // "A subcommand is required".
+    if (app.get_subcommands().empty()) {
+      for (const std::string& a : app.remaining()) {
+        if (a.empty() || a[0] == '-') continue;
+        std::string names;
+        for (const CLI::App* sub : app.get_subcommands([](const CLI::App*) { return true; }))
+          names += (names.empty() ? "" : ", ") + sub->get_name();
+        std::fprintf(stderr, "error: command line: unknown subcommand \"%s\" (expected one of: %s)\n",
+                     ofl::printable(a).c_str(), names.c_str());
+        return ofl::kExitBadInput;
+      }
+    }
+    std::fprintf(stderr, "error: command line: %s\n", ofl::one_line(e.what()).c_str());
     return ofl::kExitBadInput;
   } catch (const ofl::InputError& e) {
     std::fprintf(stderr, "error: %s\n", e.describe().c_str());
     return ofl::kExitBadInput;
   } catch (const ofl::Interrupted& e) {
-    std::fprintf(stderr, "interrupted: %s\n", e.what());
+    std::fprintf(stderr, "interrupted: %s\n", ofl::one_line(e.what()).c_str());
     return ofl::kExitInterrupted;
+  } catch (const std::bad_alloc&) {
+    // Sizes read from inputs are checked before allocation (renderer/core/memory_limit.h); this is
+    // what is left: the request did not fit in the memory available at the time.
+    std::fprintf(stderr, "error: out of memory: the inputs ask for more memory than is available (limit %s, %s); "
+                 "reduce the resolution, bands, samples or mesh size\n",
+                 ofl::format_bytes(double(ofl::memory_limit_bytes())).c_str(), ofl::memory_limit_source().c_str());
+    return ofl::kExitBadInput;
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "internal error: %s\n", e.what());
+    std::fprintf(stderr, "internal error: %s\n", ofl::one_line(e.what()).c_str());
     return ofl::kExitInternal;
   }
   return ofl::kExitOk;

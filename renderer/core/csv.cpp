@@ -6,6 +6,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "renderer/core/atomic_file.h"
 #include "renderer/core/error.h"
 
 namespace ofl {
@@ -133,8 +134,7 @@ std::string csv_quote(const std::string& s) {
 
 void write_csv(const std::filesystem::path& file, const std::vector<std::string>& header,
                const std::vector<std::vector<double>>& rows) {
-  std::ofstream out(file);
-  if (!out) throw InputError(file.string(), "", "cannot write file");
+  std::ostringstream out;
   for (size_t i = 0; i < header.size(); ++i) out << (i ? "," : "") << csv_quote(header[i]);
   out << "\n";
   out.precision(9);
@@ -142,6 +142,7 @@ void write_csv(const std::filesystem::path& file, const std::vector<std::string>
     for (size_t i = 0; i < r.size(); ++i) out << (i ? "," : "") << r[i];
     out << "\n";
   }
+  write_file_atomic(file, out.str());
 }
 
 }  // namespace ofl

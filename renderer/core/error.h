@@ -22,6 +22,11 @@ class InputError : public std::runtime_error {
   std::string file_, field_;
 };
 
+// Text taken from an input file, made safe for a one-line message: bytes outside printable ASCII
+// become "\xNN", and anything past `max_chars` is cut and marked with "...". Corrupt files never
+// put raw binary bytes (or newlines) into an error message.
+std::string printable(const std::string& text, size_t max_chars = 60);
+
 // Raised when the user interrupts long work (SIGINT); finished work has been saved.
 class Interrupted : public std::runtime_error {
  public:

@@ -163,29 +163,72 @@ std::filesystem::path JsonNode::existing_file() const {
   return p;
 }
 
+namespace {
+
+// Finds where a parse stopped: nlohmann reports number overflow (out_of_range 406, "1e999") without
+// a position, but its SAX interface is told the byte offset. Used only after a failed parse.
+struct ErrorPosition : nlohmann::json_sax<nlohmann::json> {
+  size_t byte = 0;
+  bool null() override { return true; }
+  bool boolean(bool) override { return true; }
+  bool number_integer(number_integer_t) override { return true; }
+  bool number_unsigned(number_unsigned_t) override { return true; }
+  bool number_float(number_float_t, const string_t&) override { return true; }
+  bool string(string_t&) override { return true; }
+  bool binary(binary_t&) override { return true; }
+  bool start_object(std::size_t) override { return true; }
+  bool key(string_t&) override { return true; }
+  bool end_object() override { return true; }
+  bool start_array(std::size_t) override { return true; }
+  bool end_array() override { return true; }
+  bool parse_error(std::size_t position, const std::string&, const nlohmann::detail::exception&) override {
+    byte = position;
+    return false;
+  }
+};
+
+std::string line_column(const std::string& text, size_t byte) {
+  size_t pos = std::min<size_t>(byte > 0 ? byte - 1 : 0, text.size());
+  int line = 1, col = 1;
+  for (size_t i = 0; i < pos; ++i) {
+    if (text[i] == '\n') { ++line; col = 1; } else { ++col; }
+  }
+  return "line " + std::to_string(line) + " column " + std::to_string(col);
+}
+
+// nlohmann's message without its "[json.exception.x.n] " and "parse error at line L, column C: " prefixes.
+std::string json_message(const std::string& what) {
+  std::string msg = what;
+  if (msg.rfind("[json.exception.", 0) == 0)
+    if (auto close = msg.find("] "); close != std::string::npos) msg = msg.substr(close + 2);
+  if (auto at = msg.find(", column "); at != std::string::npos)
+    if (auto cut = msg.find(": ", at); cut != std::string::npos) msg = msg.substr(cut + 2);
+  return printable(msg, 160);
+}
+
+}  // namespace
+
+nlohmann::json parse_json_text(const std::string& text, const std::string& file) {
+  try {
+    return nlohmann::json::parse(text, nullptr, true, true);
+  } catch (const nlohmann::json::parse_error& e) {
+    throw InputError(file, line_column(text, e.byte), "malformed JSON: " + json_message(e.what()));
+  } catch (const nlohmann::json::exception& e) {
+    // Number overflow ("1e999") and the like: valid syntax, a value no double can hold.
+    ErrorPosition where;
+    nlohmann::json::sax_parse(text, &where, nlohmann::json::input_format_t::json, true, true);
+    throw InputError(file, line_column(text, where.byte), "unusable JSON value: " + json_message(e.what()));
+  }
+}
+
 JsonFile JsonFile::load(const std::filesystem::path& file) {
   std::ifstream in(file, std::ios::binary);
   if (!in) throw InputError(file.string(), "", "cannot open file");
   std::stringstream ss;
   ss << in.rdbuf();
-  std::string text = ss.str();
   JsonFile f;
   f.name_ = file.string();
-  try {
-    f.doc_ = std::make_shared<nlohmann::json>(nlohmann::json::parse(text, nullptr, true, true));
-  } catch (const nlohmann::json::parse_error& e) {
-    size_t pos = std::min<size_t>(e.byte > 0 ? e.byte - 1 : 0, text.size());
-    int line = 1, col = 1;
-    for (size_t i = 0; i < pos; ++i) {
-      if (text[i] == '\n') { ++line; col = 1; } else { ++col; }
-    }
-    std::string msg = e.what();
-    // Drop nlohmann's "[json.exception...] parse error at line L, column C: " prefix.
-    if (auto at = msg.find(", column "); at != std::string::npos)
-      if (auto cut = msg.find(": ", at); cut != std::string::npos) msg = msg.substr(cut + 2);
-    throw InputError(file.string(), "line " + std::to_string(line) + " column " + std::to_string(col),
-                     "malformed JSON: " + msg);
-  }
+  f.doc_ = std::make_shared<nlohmann::json>(parse_json_text(ss.str(), f.name_));
   return f;
 }
 

@@ -85,6 +85,10 @@ class JsonNode {
   static inline const std::string root_ = "/";
 };
 
+// Parses JSON text (comments allowed) read from `file`. Malformed text and values no double can
+// hold ("1e999") are InputErrors naming the file and "line L column C".
+nlohmann::json parse_json_text(const std::string& text, const std::string& file);
+
 // A parsed JSON file that owns its document; root() gives the node for "/".
 class JsonFile {
  public:

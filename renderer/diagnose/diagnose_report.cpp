@@ -7,6 +7,7 @@
 #include <set>
 #include <sstream>
 
+#include "renderer/core/atomic_file.h"
 #include "renderer/core/csv.h"
 #include "renderer/core/error.h"
 #include "renderer/diagnose/svg_plot.h"
@@ -52,9 +53,7 @@ std::string slug(std::string s) {
 }
 
 void write_text(const std::filesystem::path& f, const std::string& s) {
-  std::ofstream o(f);
-  if (!o) throw InputError(f.string(), "", "cannot write");
-  o << s;
+  write_file_atomic(f, s);
 }
 
 // Groups of items by the report_by column (or one group "all").

@@ -18,6 +18,9 @@ struct FloatImage {
   int width = 0, height = 0, channels = 0;
   std::vector<float> pixels;
 };
+// Checks the size an image header claims (width x height x channels x bytes_per_value) against
+// the memory limit before any pixel is allocated; InputError naming the file otherwise.
+void check_image_spec(const std::filesystem::path& file, const OIIO::ImageSpec& spec, size_t bytes_per_value);
 // Reads the first subimage; a missing or unreadable file is an InputError naming it.
 FloatImage read_image_file(const std::filesystem::path& file);
 

@@ -3,6 +3,7 @@
 #include <ImfChannelList.h>
 #include <ImfFrameBuffer.h>
 #include <ImfHeader.h>
+#include <ImfIO.h>
 #include <ImfInputFile.h>
 #include <ImfOutputFile.h>
 #include <ImfStringAttribute.h>
@@ -10,9 +11,12 @@
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <numeric>
 
+#include "renderer/core/atomic_file.h"
 #include "renderer/core/error.h"
+#include "renderer/image/exr_header.h"
 #include "renderer/spectral/color.h"
 
 namespace ofl {
@@ -63,6 +67,25 @@ std::vector<float> spectral_to_linear_srgb(const SpectralImage& img, double whit
   return rgb;
 }
 
+namespace {
+// An Imf::OStream into a string (OpenEXR seeks back to fill in the line offset table).
+class MemoryOStream : public Imf::OStream {
+ public:
+  MemoryOStream() : Imf::OStream("memory") {}
+  void write(const char c[], int n) override {
+    if (pos_ + size_t(n) > bytes.size()) bytes.resize(pos_ + size_t(n));
+    std::memcpy(bytes.data() + pos_, c, size_t(n));
+    pos_ += size_t(n);
+  }
+  uint64_t tellp() override { return pos_; }
+  void seekp(uint64_t pos) override { pos_ = size_t(pos); }
+  std::string bytes;
+
+ private:
+  size_t pos_ = 0;
+};
+}  // namespace
+
 void write_spectral_exr(const std::filesystem::path& file, const SpectralImage& img) {
   Imf::Header header(img.width, img.height);
   header.insert("spectralLayoutVersion", Imf::StringAttribute("1.0"));
@@ -94,23 +117,23 @@ void write_spectral_exr(const std::filesystem::path& file, const SpectralImage& 
   for (auto& [name, plane] : img.aovs)
     if (plane.size() == size_t(img.width) * img.height)
       fb.insert(name, Imf::Slice(Imf::FLOAT, (char*)plane.data(), sizeof(float), sizeof(float) * img.width));
+  // Encoded in memory, then written with every write checked and renamed into place
+  // (write_file_atomic): readers never see a half-written image, a full disk is an error.
+  MemoryOStream mem;
   try {
-    std::filesystem::path tmp = file;
-    tmp += ".partial";
-    {
-      Imf::OutputFile out(tmp.string().c_str(), header);
-      out.setFrameBuffer(fb);
-      out.writePixels(img.height);
-    }
-    std::filesystem::rename(tmp, file);  // atomic: readers never see a half-written image
+    Imf::OutputFile out(mem, header);
+    out.setFrameBuffer(fb);
+    out.writePixels(img.height);
   } catch (const std::exception& e) {
     throw InputError(file.string(), "", std::string("cannot write EXR: ") + e.what());
   }
+  write_file_atomic(file, mem.bytes);
 }
 
 SpectralImage read_spectral_exr(const std::filesystem::path& file) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(file, ec)) throw InputError(file.string(), "", "file not found");
+  if (!check_exr_header(file).is_exr) throw InputError(file.string(), "", "not an OpenEXR file");
   SpectralImage img;
   try {
     Imf::InputFile in(file.string().c_str());
@@ -158,7 +181,7 @@ SpectralImage read_spectral_exr(const std::filesystem::path& file) {
   } catch (const InputError&) {
     throw;
   } catch (const std::exception& e) {
-    throw InputError(file.string(), "", std::string("cannot read EXR: ") + e.what());
+    throw InputError(file.string(), "", "cannot read EXR: " + printable(e.what(), 200));
   }
   return img;
 }

@@ -9,6 +9,7 @@
 #include <memory>
 #include <system_error>
 
+#include "renderer/core/atomic_file.h"
 #include "renderer/core/error.h"
 
 namespace ofl {
@@ -313,14 +314,10 @@ matvar_t* to_matvar(const char* name, const MatValue& m, const std::string& wher
 
 void write_mat_file(const std::filesystem::path& file, const MatVariables& vars) {
   quiet_matio();
-  std::filesystem::path tmp = file;
-  tmp += ".partial";
-  std::error_code ec;
-  auto fail = [&](const std::string& what) {
-    std::filesystem::remove(tmp, ec);
-    throw InputError(file.string(), "", what);
-  };
-  {
+  // libmatio writes by file name: into a temporary beside the file, renamed once complete and
+  // flushed (write_via_temporary); every matio error and the final close are checked.
+  write_via_temporary(file, [&](const std::filesystem::path& tmp) {
+    auto fail = [&](const std::string& what) { throw InputError(file.string(), "", what); };
     MatPtr mat(Mat_CreateVer(tmp.string().c_str(), "oralfluor", MAT_FT_MAT5));
     if (!mat) fail("cannot create the file (missing folder or no permission?)");
     for (auto& [name, value] : vars) {
@@ -328,9 +325,16 @@ void write_mat_file(const std::filesystem::path& file, const MatVariables& vars)
       if (!v) fail("libmatio cannot build variable \"" + name + "\"");
       if (Mat_VarWrite(mat.get(), v.get(), MAT_COMPRESSION_ZLIB) != 0) fail("cannot write variable \"" + name + "\" (disk full?)");
     }
-  }
-  std::filesystem::rename(tmp, file, ec);
-  if (ec) fail("cannot rename the finished file into place: " + ec.message());
+    if (Mat_Close(mat.release()) != 0) fail("cannot write (disk full?)");
+    // libmatio does not report every failed write (a full disk can leave an empty or cut file and
+    // a zero return): read the file back and require every variable, data included.
+    MatPtr back(Mat_Open(tmp.string().c_str(), MAT_ACC_RDONLY));
+    if (!back) fail("cannot write: the written file does not read back (disk full?)");
+    size_t n = 0;
+    while (VarPtr v{Mat_VarReadNext(back.get())}) ++n;
+    if (n != vars.size())
+      fail("cannot write: " + std::to_string(n) + " of " + std::to_string(vars.size()) + " variables read back (disk full?)");
+  });
 }
 
 // ---- navigation -----------------------------------------------------------------------------

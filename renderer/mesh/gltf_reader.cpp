@@ -43,21 +43,39 @@ struct Reader {
   [[noreturn]] void fail(const std::string& where, const std::string& what) { throw InputError(file, where, what); }
 
   // Accessor `index` as `comps` values per element (float, or normalised/plain unsigned integers).
+  // Offsets, counts and strides come from the file: every sum and product is checked against the
+  // buffer view and the buffer without overflow before anything is read or allocated.
   std::vector<double> read(int index, int comps, const std::string& where, bool integer = false) {
     if (index < 0 || index >= int(model.accessors.size())) fail(where, "accessor index out of range");
     const auto& acc = model.accessors[index];
+    const std::string aname = "accessors[" + std::to_string(index) + "]";
     int nc = tinygltf::GetNumComponentsInType(acc.type);
-    if (nc != comps) fail(where, "accessor has " + std::to_string(nc) + " components, expected " + std::to_string(comps));
+    if (nc != comps) fail(where, aname + " has " + std::to_string(nc) + " components, expected " + std::to_string(comps));
     if (acc.bufferView < 0 || acc.bufferView >= int(model.bufferViews.size())) fail(where, "sparse or empty accessors are not supported");
     const auto& bv = model.bufferViews[acc.bufferView];
-    if (bv.buffer < 0 || bv.buffer >= int(model.buffers.size())) fail(where, "bufferView without a valid buffer");
+    const std::string vname = "bufferViews[" + std::to_string(acc.bufferView) + "]";
+    if (bv.buffer < 0 || bv.buffer >= int(model.buffers.size())) fail(where, vname + " without a valid buffer");
     const auto& buf = model.buffers[bv.buffer].data;
     int csize = tinygltf::GetComponentSizeInBytes(acc.componentType);
-    if (csize <= 0) fail(where, "unknown component type");
-    size_t stride = bv.byteStride ? bv.byteStride : size_t(csize) * comps;
-    size_t start = bv.byteOffset + acc.byteOffset;
-    if (acc.count == 0 || start + stride * (acc.count - 1) + size_t(csize) * comps > buf.size())
-      fail(where, "accessor reads past the end of its buffer");
+    if (csize <= 0) fail(where, aname + ": unknown component type");
+    const size_t elem = size_t(csize) * comps;
+    // The buffer view must lie inside its buffer.
+    if (bv.byteOffset > buf.size() || bv.byteLength > buf.size() - bv.byteOffset)
+      fail(where, vname + " (byteOffset " + std::to_string(bv.byteOffset) + ", byteLength " + std::to_string(bv.byteLength) +
+                      ") reaches past the end of buffers[" + std::to_string(bv.buffer) + "] (" + std::to_string(buf.size()) + " bytes)");
+    if (bv.byteStride != 0 && (bv.byteStride < elem || bv.byteStride > 252))
+      fail(where, vname + " byteStride " + std::to_string(bv.byteStride) + " must be 0 or between the element size (" +
+                      std::to_string(elem) + ") and 252");
+    const size_t stride = bv.byteStride ? bv.byteStride : elem;
+    if (acc.count == 0) fail(where, aname + " has count 0");
+    // The accessor must lie inside its buffer view: byteOffset + stride * (count - 1) + elem <= byteLength.
+    const size_t len = bv.byteLength;
+    bool inside = acc.byteOffset <= len && elem <= len - acc.byteOffset &&
+                  (acc.count - 1) <= (len - acc.byteOffset - elem) / stride;
+    if (!inside)
+      fail(where, aname + " (byteOffset " + std::to_string(acc.byteOffset) + ", count " + std::to_string(acc.count) +
+                      ") reads past the end of " + vname + " (" + std::to_string(len) + " bytes)");
+    const size_t start = bv.byteOffset + acc.byteOffset;  // cannot overflow: both are within the buffer
     std::vector<double> v(acc.count * comps);
     for (size_t i = 0; i < acc.count; ++i)
       for (int c = 0; c < comps; ++c) {

@@ -3,8 +3,11 @@
 #include <cstring>
 #include <map>
 
+#include <sstream>
+
 #include <tiny_gltf.h>
 
+#include "renderer/core/atomic_file.h"
 #include "renderer/core/error.h"
 #include "renderer/mesh/mesh_measure.h"
 
@@ -138,9 +141,10 @@ void write_glb(const std::filesystem::path& file, const GlbDocument& doc) {
   std::error_code ec;
   if (file.has_parent_path()) std::filesystem::create_directories(file.parent_path(), ec);
   tinygltf::TinyGLTF writer;
-  if (!writer.WriteGltfSceneToFile(&model, file.string(), /*embedImages=*/true, /*embedBuffers=*/true,
-                                   /*prettyPrint=*/true, /*writeBinary=*/true))
-    throw InputError(file.string(), "", "cannot write glTF binary");
+  std::ostringstream bytes;
+  if (!writer.WriteGltfSceneToStream(&model, bytes, /*prettyPrint=*/true, /*writeBinary=*/true))
+    throw InputError(file.string(), "", "cannot encode glTF binary");
+  write_file_atomic(file, bytes.str());
 }
 
 }  // namespace ofl

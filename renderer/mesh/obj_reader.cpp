@@ -54,7 +54,7 @@ class Parser {
     if (!tok.empty() && *b == '+') ++b;
     auto [p, ec] = std::from_chars(b, e, v);
     if (ec != std::errc() || p != e || !std::isfinite(v))
-      fail(std::string("expected a number for ") + what + ", found '" + std::string(tok) + "'");
+      fail(std::string("expected a number for ") + what + ", found '" + printable(std::string(tok), 40) + "'");
     return v;
   }
 
@@ -63,7 +63,7 @@ class Parser {
     long v = 0;
     auto [p, ec] = std::from_chars(tok.data(), tok.data() + tok.size(), v);
     if (ec != std::errc() || p != tok.data() + tok.size())
-      fail(std::string("expected an integer ") + what + " index, found '" + std::string(tok) + "'");
+      fail(std::string("expected an integer ") + what + " index, found '" + printable(std::string(tok), 40) + "'");
     long zero_based = v > 0 ? v - 1 : static_cast<long>(count) + v;
     if (v == 0 || zero_based < 0 || zero_based >= static_cast<long>(count))
       fail(std::string(what) + " index " + std::to_string(v) + " out of range (" + std::to_string(count) +

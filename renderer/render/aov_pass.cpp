@@ -36,6 +36,26 @@ double led_irradiance(const Scene& scene, const EmbreeScene& embree, const Surfa
   return e;
 }
 
+ViewProbe probe_view(const Scene& scene, const EmbreeScene& embree, int n) {
+  const CameraSpec& c = scene.camera;
+  glm::dvec3 f = glm::normalize(c.look_at - c.position);
+  glm::dvec3 r = glm::normalize(glm::cross(f, c.up));
+  glm::dvec3 u = glm::cross(r, f);
+  double th = std::tan(0.5 * c.vfov_deg * kPi / 180.0), tw = th * double(c.width) / c.height;
+  ViewProbe p;
+  for (int y = 0; y < n; ++y)
+    for (int x = 0; x < n; ++x) {
+      glm::dvec3 d = glm::normalize(f + (2.0 * (x + 0.5) / n - 1.0) * tw * r + (1.0 - 2.0 * (y + 0.5) / n) * th * u);
+      ++p.rays;
+      RayHit h = embree.intersect(c.position, d);
+      if (!h.found()) continue;
+      ++p.hits;
+      if (embree.info(h.geom).kind == GeomInfo::Kind::kLed) continue;
+      if (glm::dot(embree.surface(h, c.position, d).ng, d) > 0) ++p.back_hits;
+    }
+  return p;
+}
+
 std::map<std::string, std::vector<float>> compute_aovs(const Scene& scene, const EmbreeScene& embree) {
   const CameraSpec& c = scene.camera;
   const int W = c.width, H = c.height;

@@ -15,6 +15,15 @@ namespace ofl {
 // "aov.v", "aov.depth" (m), "aov.cos_view", "aov.irradiance" (W m^-2).
 std::map<std::string, std::vector<float>> compute_aovs(const Scene& scene, const EmbreeScene& embree);
 
+// What the camera looks at, from n x n pinhole rays spread over the frame: how many hit anything and
+// how many of those hit the back (against the authored normal) of a surface. The render warns when
+// nothing is hit (the camera faces nothing) and when nearly every ray hits a back face (the camera
+// is inside closed geometry).
+struct ViewProbe {
+  int rays = 0, hits = 0, back_hits = 0;
+};
+ViewProbe probe_view(const Scene& scene, const EmbreeScene& embree, int n = 16);
+
 // LED irradiance at point p with normal n (W m^-2, all lights, shadowed); disk LEDs are
 // integrated with a fixed 3 x 3 stratified pattern.
 double led_irradiance(const Scene& scene, const EmbreeScene& embree, const SurfacePoint& sp);

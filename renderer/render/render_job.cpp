@@ -40,6 +40,16 @@ RenderResult render(const Scene& scene, const RenderOptions& opt) {
 
   RenderStats st;
   st.build_seconds = std::chrono::duration<double>(t1 - t0).count();
+  if (scene.lights.empty())
+    st.warnings.push_back("the scene has no lights: only emissive materials, if any, light it");
+  {
+    ViewProbe vp = probe_view(scene, embree);
+    if (vp.hits == 0)
+      st.warnings.push_back("the camera faces nothing: none of " + std::to_string(vp.rays) + " view rays hits any geometry");
+    else if (vp.hits == vp.rays && vp.back_hits * 10 >= vp.rays * 9)
+      st.warnings.push_back("the camera appears to be inside closed geometry: " + std::to_string(vp.back_hits) + " of " +
+                            std::to_string(vp.rays) + " view rays hit the back of a surface");
+  }
   std::optional<ProgressBar> bar;  // RenderOptions::progress false: no bar at all
   if (opt.progress) bar.emplace("render", int64_t(W) * H * spp);
   std::mutex mu;
@@ -123,6 +133,8 @@ RenderResult render(const Scene& scene, const RenderOptions& opt) {
     for (size_t i = 0; i < sum_fl.size(); ++i) res.image.fluorescence[i] = float(sum_fl[i] * inv);
   }
   if (opt.aovs) res.image.aovs = compute_aovs(scene, embree);
+  if (done > 0 && std::all_of(res.image.data.begin(), res.image.data.end(), [](float v) { return v == 0.0f; }))
+    st.warnings.push_back("the image is all zero: no light reached the camera");
   res.stats = st;
   describe_render(scene, st, res.image);
   return res;

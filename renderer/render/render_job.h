@@ -32,6 +32,9 @@ struct RenderStats {
   RayCounts rays;
   bool interrupted = false;
   double relative_noise = 0;    // estimated relative standard error of the mean band radiance
+  // Doubtful success said out loud (docs/bad-inputs.md): no lights, a camera that faces nothing
+  // or sits inside closed geometry, an all-zero image. The CLI prints them and render.json lists them.
+  std::vector<std::string> warnings;
   double samples_per_second() const { return seconds > 0 ? camera_samples / seconds : 0; }
   double rays_per_second() const { return seconds > 0 ? rays.total() / seconds : 0; }
 };

@@ -9,6 +9,7 @@
 
 #include "renderer/core/csv.h"
 #include "renderer/core/error.h"
+#include "renderer/scene/ies_profile.h"
 #include "renderer/spectral/spectrum_json.h"
 #include "renderer/spectral/units.h"
 
@@ -41,7 +42,7 @@ double LedLight::area() const { return kPi * radius_m * radius_m; }
 
 // Relative intensity against polar angle from an IES LM-63 photometric file (types C and B with
 // the vertical angle measured from the LED axis): candela averaged over the horizontal angles.
-static std::vector<std::pair<double, double>> read_ies_profile(const std::filesystem::path& file) {
+std::vector<std::pair<double, double>> read_ies_profile(const std::filesystem::path& file) {
   std::ifstream in(file);
   if (!in) throw InputError(file.string(), "", "cannot open IES file");
   std::string line;
@@ -61,20 +62,39 @@ static std::vector<std::pair<double, double>> read_ies_profile(const std::filesy
   while (in >> tok) {
     char* end = nullptr;
     double x = std::strtod(tok.c_str(), &end);
-    if (end == tok.c_str() || *end != '\0' || !std::isfinite(x)) throw InputError(file.string(), "after TILT", "not a number: \"" + tok + "\"");
+    if (end == tok.c_str() || *end != '\0' || !std::isfinite(x)) throw InputError(file.string(), "after TILT", "not a number: \"" + printable(tok, 40) + "\"");
     v.push_back(x);
   }
   if (v.size() < 13) throw InputError(file.string(), "header", "truncated photometric header");
-  int nv = int(v[3]), nh = int(v[4]);
-  size_t need = 13 + size_t(nv) + nh + size_t(nv) * nh;
-  if (nv < 2 || nh < 1 || v.size() < need)
+  // The counts are read as numbers: check them as numbers (finite, whole, bounded) before they
+  // become integers, so that a huge or fractional count is an input error, not undefined behaviour.
+  auto count = [&](size_t i, const char* what, double lo) {
+    constexpr double kMaxAngles = 10000;
+    double x = v[i];
+    if (!(x >= lo && x <= kMaxAngles) || x != std::floor(x))
+      throw InputError(file.string(), std::string("header ") + what,
+                       "must be a whole number from " + std::to_string(int(lo)) + " to " + std::to_string(int(kMaxAngles)) +
+                           ", found " + std::to_string(x));
+    return size_t(x);
+  };
+  const size_t nv = count(3, "vertical angle count", 2), nh = count(4, "horizontal angle count", 1);
+  const size_t need = 13 + nv + nh + nv * nh;  // at most 13 + 2e4 + 1e8: no overflow
+  if (v.size() < need)
     throw InputError(file.string(), "candela table", "expected " + std::to_string(need) + " numbers, found " + std::to_string(v.size()));
   std::vector<std::pair<double, double>> rows;
-  for (int i = 0; i < nv; ++i) {
+  for (size_t i = 0; i < nv; ++i) {
     double angle = v[13 + i], sum = 0;
-    for (int h = 0; h < nh; ++h) sum += v[13 + nv + nh + size_t(h) * nv + i];
-    if (angle <= 90.0 + 1e-9) rows.push_back({angle, std::max(0.0, sum / nh)});
+    for (size_t h = 0; h < nh; ++h) {
+      double cd = v[13 + nv + nh + h * nv + i];
+      if (cd < 0)
+        throw InputError(file.string(), "candela value " + std::to_string(h * nv + i + 1),
+                         "negative candela " + std::to_string(cd) + " (vertical angle " + std::to_string(angle) + " deg)");
+      sum += cd;
+    }
+    if (angle <= 90.0 + 1e-9) rows.push_back({angle, sum / nh});
   }
+  if (!rows.empty() && rows.front().first == 0.0 && !(rows.front().second > 0))
+    throw InputError(file.string(), "candela table", "zero candela on the LED axis (vertical angle 0): the profile cannot be normalised");
   return rows;
 }
 

@@ -8,6 +8,7 @@
 
 #include "materials/material_parser.h"
 #include "renderer/core/error.h"
+#include "renderer/core/memory_limit.h"
 #include "renderer/mesh/gltf_reader.h"
 #include "renderer/scene/scene.h"
 #include "renderer/scene/scene_transform.h"
@@ -163,6 +164,15 @@ Scene load_scene(const JsonFile& doc, const SceneOverrides& ov) {
   if (ov.height) sc.camera.height = *ov.height;
   if (ov.width && !ov.height) sc.camera.height = std::max(1, int(std::lround(*ov.width * aspect)));
   if (ov.height && !ov.width) sc.camera.width = std::max(1, int(std::lround(*ov.height / aspect)));
+  {
+    // The film: per pixel and output band two double sums (radiance, fluorescence) and two float
+    // planes of the image, plus noise halves and AOVs per pixel. Checked before the scene is built.
+    const double px = double(sc.camera.width) * sc.camera.height, bands = sc.integrator.bands.size();
+    check_memory(doc.name(), ov.width || ov.height ? "--width/--height" : "/camera/resolution",
+                 px * (bands * 24.0 + 64.0),
+                 "a " + std::to_string(sc.camera.width) + "x" + std::to_string(sc.camera.height) + " render with " +
+                     std::to_string(int(bands)) + " output bands");
+  }
 
   MaterialContext ctx{sc.grid(), &sc.eems, &sc.textures, {}, {}};
   JsonNode mats = r.at("materials");

@@ -24,6 +24,7 @@ struct Eem {
 struct GridEem {
   WavelengthGrid grid;
   std::vector<double> m;  // [em * N + ex], zero for em <= ex
+  std::string source;     // the file it was read from (for error messages), empty if built in code
   int n() const { return grid.size(); }
   double at(int em, int ex) const { return m[static_cast<size_t>(em) * n() + ex]; }
   double& at(int em, int ex) { return m[static_cast<size_t>(em) * n() + ex]; }

@@ -44,6 +44,7 @@ static GridEem load_sidecar(const std::filesystem::path& file, const WavelengthG
   if (auto e = r.find("eem")) {
     Eem raw = read_eem_csv(e->existing_file());
     g = resample(raw, grid);
+    g.source = e->existing_file().string();
     if (normalise) {
       double m = max_photon_albedo(raw);
       if (!(m > 0)) e->fail("EEM is zero everywhere above the diagonal");
@@ -62,6 +63,7 @@ static GridEem load_sidecar(const std::filesystem::path& file, const WavelengthG
       if (!(m > 0)) r.fail("excitation and emission do not overlap the wavelength grid");
       g.scale(1.0 / m);
     }
+    g.source = file.string();
   }
   return g;
 }
@@ -84,6 +86,7 @@ GridEem load_fluorophore(const std::string& what, const WavelengthGrid& grid, co
   if (p.extension() == ".json") return load_sidecar(p, grid);
   Eem raw = read_eem_csv(p);
   GridEem g = resample(raw, grid);
+  g.source = p.string();
   if (normalise_csv) {
     double m = max_photon_albedo(raw);
     if (!(m > 0)) throw InputError(p.string(), "", "EEM is zero everywhere above the diagonal");

@@ -2,10 +2,12 @@
 
 #include <cmath>
 #include <fstream>
+#include <sstream>
 
 #include <glm/vec3.hpp>
 
 #include "renderer/core/error.h"
+#include "renderer/core/json_node.h"
 
 namespace ofl {
 namespace {
@@ -15,13 +17,11 @@ const char* const kGenerators[] = {"led_count",       "ring_radius",        "led
                                    "led_fwhm",        "scene_file",         "camera_file"};
 
 nlohmann::json read_json(const std::filesystem::path& p, const std::string& file, const std::string& field) {
-  std::ifstream in(p);
+  std::ifstream in(p, std::ios::binary);
   if (!in) throw InputError(file, field, "cannot open " + p.string());
-  try {
-    return nlohmann::json::parse(in, nullptr, true, true);
-  } catch (const std::exception& e) {
-    throw InputError(p.string(), "", std::string("malformed JSON: ") + e.what());
-  }
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return parse_json_text(ss.str(), p.string());
 }
 
 std::filesystem::path relative_to(const std::string& sweep_file, const std::string& path) {

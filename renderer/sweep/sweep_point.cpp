@@ -191,11 +191,11 @@ nlohmann::json point_identity(const SweepSpec& spec, const DesignPoint& pt) {
 
 std::string point_key(const SweepSpec& spec, const DesignPoint& pt) { return hex16(fnv1a(point_identity(spec, pt).dump())); }
 
-PointOutcome evaluate_point(const SweepSpec& spec, const DesignPoint& pt, PointRunContext& ctx) {
-  auto t0 = std::chrono::steady_clock::now();
-  const std::string key = point_key(spec, pt), label = point_label(spec, pt);
+LoadedPoint load_point(const SweepSpec& spec, const DesignPoint& pt) {
+  const std::string label = point_label(spec, pt);
   PointDocuments docs = point_documents(spec, pt.values);
 
+  if (!docs.scene.is_object()) throw InputError(docs.scene_file.string(), "", "a scene must be a JSON object");
   // Render settings of the sweep go into the scene document (the CLI's overrides for the rest).
   nlohmann::json& integ = docs.scene["integrator"];
   if (!integ.is_object()) integ = nlohmann::json::object();
@@ -207,16 +207,34 @@ PointOutcome evaluate_point(const SweepSpec& spec, const DesignPoint& pt, PointR
   ov.seed = spec.render.seed;
   ov.width = spec.render.width;
   ov.height = spec.render.height;
-  Scene scene;
-  CameraDescription cam;
+  LoadedPoint lp;
   try {
-    scene = load_scene(JsonFile::from(docs.scene, docs.scene_file.string()), ov);
-    cam = parse_camera(JsonFile::from(docs.camera, docs.camera_file.string()).root());
-    cam.source = docs.camera_file.string();
+    lp.scene = load_scene(JsonFile::from(docs.scene, docs.scene_file.string()), ov);
+    lp.camera = parse_camera(JsonFile::from(docs.camera, docs.camera_file.string()).root());
+    lp.camera.source = docs.camera_file.string();
   } catch (const InputError& e) {
-    throw InputError(e.file(), e.field(), std::string(e.what()) + " (as edited for sweep point " +
-                                              std::to_string(pt.index) + ": " + label + ")");
+    // The edited documents broke: the sweep file is what the user changes. Name the parameter
+    // whose pointer reaches the rejected field when there is one, else the parameters as a whole.
+    const bool in_camera = e.file() == docs.camera_file.string();
+    std::string where = "/parameters";
+    for (size_t i = 0; i < spec.parameters.size(); ++i) {
+      const auto& p = spec.parameters[i];
+      if (p.kind != (in_camera ? ParamKind::kCameraPath : ParamKind::kScenePath) || p.pointer.empty()) continue;
+      const std::string& f = e.field();
+      if (f.rfind(p.pointer, 0) == 0 || p.pointer.rfind(f, 0) == 0) { where = p.where; break; }
+    }
+    throw InputError(spec.file, where,
+                     "sweep point " + std::to_string(pt.index) + " (" + label + ") makes " + e.describe());
   }
+  return lp;
+}
+
+PointOutcome evaluate_point(const SweepSpec& spec, const DesignPoint& pt, PointRunContext& ctx) {
+  auto t0 = std::chrono::steady_clock::now();
+  const std::string key = point_key(spec, pt), label = point_label(spec, pt);
+  LoadedPoint lp = load_point(spec, pt);
+  Scene& scene = lp.scene;
+  CameraDescription& cam = lp.camera;
 
   RenderOptions ro;
   ro.progress = ctx.progress;

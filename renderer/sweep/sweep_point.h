@@ -17,6 +17,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "renderer/camera/camera_description.h"
+#include "renderer/scene/scene.h"
 #include "renderer/scene/texture.h"
 #include "renderer/sweep/sweep_design.h"
 #include "renderer/sweep/sweep_spec.h"
@@ -39,6 +41,16 @@ struct PointOutcome {
 };
 
 PointOutcome evaluate_point(const SweepSpec& spec, const DesignPoint& point, PointRunContext& ctx);
+
+// The point's scene and camera, loaded from its edited documents. A value the loaders reject is an
+// InputError naming the sweep file and the parameter (or "/parameters"), with the point and the
+// loader's own file and field in the message. The runner loads every point up front, so a bad
+// value fails before the first render.
+struct LoadedPoint {
+  Scene scene;
+  CameraDescription camera;
+};
+LoadedPoint load_point(const SweepSpec& spec, const DesignPoint& point);
 
 // Standard base64 (RFC 4648), for thumbnails inside the result JSON.
 std::string base64_encode(const std::string& bytes);

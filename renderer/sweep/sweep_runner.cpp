@@ -85,10 +85,11 @@ SweepRunSummary run_sweep(const SweepSpec& spec, const SweepRunOptions& opt) {
   try {
     Work w{spec, opt, make_design(spec), {}};
     sum.design_points = int(w.design.size());
-    // Every point's documents are built once up front, so a pointer that does not fit the scene
-    // is reported before anything is rendered.
+    // Every point's documents are built and loaded once up front, so a pointer that does not fit
+    // the scene, or a value the scene or camera loader rejects, is reported (naming the sweep
+    // file's parameter) before anything is rendered.
     for (auto& p : w.design) {
-      point_documents(spec, p.values);
+      load_point(spec, p);
       w.keys.push_back(point_key(spec, p));
     }
     std::vector<int> shard = shard_indices(sum.design_points, opt.shard, opt.shards);

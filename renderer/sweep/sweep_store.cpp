@@ -23,45 +23,7 @@ std::string hostname() {
   return s.empty() ? "host" : s;
 }
 
-void fsync_path(const std::filesystem::path& p, int flags) {
-  int fd = ::open(p.c_str(), flags);
-  if (fd < 0) return;
-  ::fsync(fd);
-  ::close(fd);
-}
-
 }  // namespace
-
-void write_file_atomic(const std::filesystem::path& file, const std::string& contents) {
-  auto dir = file.parent_path().empty() ? std::filesystem::path(".") : file.parent_path();
-  std::string name(1, '.');
-  name.append(file.filename().string()).append(1, '.').append(hostname()).append(1, '.').append(std::to_string(::getpid())).append(".tmp");
-  auto tmp = dir / name;
-  int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-  if (fd < 0) throw InputError(tmp.string(), "", std::string("cannot write: ") + std::strerror(errno));
-  const char* p = contents.data();
-  size_t left = contents.size();
-  while (left > 0) {
-    ssize_t n = ::write(fd, p, left);
-    if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) {
-      int e = errno;
-      ::close(fd);
-      ::unlink(tmp.c_str());
-      throw InputError(tmp.string(), "", std::string("cannot write: ") + std::strerror(e));
-    }
-    p += n;
-    left -= size_t(n);
-  }
-  ::fsync(fd);  // the data reaches the disk before the name does
-  ::close(fd);
-  if (::rename(tmp.c_str(), file.c_str()) != 0) {
-    int e = errno;
-    ::unlink(tmp.c_str());
-    throw InputError(file.string(), "", std::string("cannot rename into place: ") + std::strerror(e));
-  }
-  fsync_path(dir, O_RDONLY | O_DIRECTORY);  // and the rename itself is durable
-}
 
 PointStore::PointStore(std::filesystem::path out_dir, bool create) : dir_(std::move(out_dir) / "points") {
   std::error_code ec;

@@ -13,10 +13,10 @@
 
 #include <nlohmann/json.hpp>
 
+#include "renderer/core/atomic_file.h"
+
 namespace ofl {
 
-// Writes `contents` to `file` atomically (temporary + fsync + rename + fsync of the folder).
-void write_file_atomic(const std::filesystem::path& file, const std::string& contents);
 
 class PointStore {
  public:
