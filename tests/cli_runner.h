@@ -4,7 +4,9 @@
 
 #include <array>
 #include <cstdio>
+#include <filesystem>
 #include <string>
+#include <vector>
 
 namespace ofl::test {
 
@@ -24,6 +26,19 @@ inline CliResult run_cli(const std::string& args) {
   int status = pclose(p);
   r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   return r;
+}
+
+// Every file under `dir` whose name marks it as a temporary (".tmp", ".partial"): what a failed
+// write must never leave behind.
+inline std::vector<std::string> temporaries(const std::filesystem::path& dir) {
+  std::vector<std::string> out;
+  std::error_code ec;
+  for (auto it = std::filesystem::recursive_directory_iterator(dir, ec);
+       !ec && it != std::filesystem::recursive_directory_iterator(); it.increment(ec)) {
+    std::string n = it->path().filename().string();
+    if (n.find(".tmp") != std::string::npos || n.find(".partial") != std::string::npos) out.push_back(it->path().string());
+  }
+  return out;
 }
 
 }  // namespace ofl::test

@@ -86,16 +86,6 @@ std::string substitute(std::string s, const std::string& key, const std::string&
   return s;
 }
 
-// Any file under `dir` whose name marks it as a temporary.
-std::vector<std::string> temporaries(const fs::path& dir) {
-  std::vector<std::string> out;
-  std::error_code ec;
-  for (auto it = fs::recursive_directory_iterator(dir, ec); !ec && it != fs::recursive_directory_iterator(); it.increment(ec)) {
-    std::string n = it->path().filename().string();
-    if (n.find(".tmp") != std::string::npos || n.find(".partial") != std::string::npos) out.push_back(it->path().string());
-  }
-  return out;
-}
 
 }  // namespace
 
@@ -128,9 +118,9 @@ TEST(BadInputTable, EveryRowGivesTheDocumentedAnswer) {
         ADD_FAILURE() << "raw byte 0x" << std::hex << int(c) << " in the output of " << cmd;
         break;
       }
-    EXPECT_TRUE(temporaries(out).empty()) << "temporaries left: " << temporaries(out).front();
+    EXPECT_TRUE(ofl::test::temporaries(out).empty()) << "temporaries left: " << ofl::test::temporaries(out).front();
   }
-  EXPECT_TRUE(temporaries(data).empty());
+  EXPECT_TRUE(ofl::test::temporaries(data).empty());
   fs::remove_all(base);
   ::unsetenv("OFL_MEMORY_LIMIT_MIB");
 }

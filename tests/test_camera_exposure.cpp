@@ -3,6 +3,8 @@
 // as the exposure, and the DNG says the true f-number, focal length, exposure and capture time.
 #include <gtest/gtest.h>
 
+#include <utime.h>
+
 #include <algorithm>
 #include <cstdlib>
 #include <fstream>
@@ -123,6 +125,20 @@ TEST(CameraExposure, DngSaysTheFNumberFocalLengthExposureAndCaptureTime) {
   EXPECT_NE(info.find("Focal length: 4.5 mm"), std::string::npos) << info;
   EXPECT_NE(info.find("Shutter: 1/40.0 sec"), std::string::npos) << info;
   EXPECT_NE(info.find("Timestamp: Tue Nov 14 22:13:20 2023"), std::string::npos) << info;
+
+  // Without SOURCE_DATE_EPOCH the picture is dated when its radiance was made (the EXR's mtime).
+  struct utimbuf when {1600000000, 1600000000};  // 2020-09-13 12:26:40 UTC
+  ASSERT_EQ(utime((dir / "ramp.exr").c_str(), &when), 0);
+  auto m = testing::run_oralfluor("camera " + (dir / "ramp.exr").string() + " --camera " + (dir / "cam.json").string() + " -o " +
+                                      (dir / "m").string(),
+                                  dir);
+  ASSERT_EQ(m.exit_code, 0) << m.err;
+  p = popen(("TZ=UTC dcraw -i -v " + (dir / "m" / "raw.dng").string() + " 2>&1").c_str(), "r");
+  ASSERT_NE(p, nullptr);
+  info.clear();
+  while (fgets(buf, sizeof buf, p)) info += buf;
+  pclose(p);
+  EXPECT_NE(info.find("Timestamp: Sun Sep 13 12:26:40 2020"), std::string::npos) << info;
 }
 
 }  // namespace

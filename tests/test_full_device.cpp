@@ -36,15 +36,6 @@ struct Command {
   std::vector<std::string> files;                        // expected under `out` on success
 };
 
-std::vector<std::string> temporaries(const fs::path& dir) {
-  std::vector<std::string> out;
-  std::error_code ec;
-  for (auto it = fs::recursive_directory_iterator(dir, ec); !ec && it != fs::recursive_directory_iterator(); it.increment(ec)) {
-    std::string n = it->path().filename().string();
-    if (n.find(".tmp") != std::string::npos || n.find(".partial") != std::string::npos) out.push_back(it->path().string());
-  }
-  return out;
-}
 
 std::string read_bytes(const fs::path& p) {
   std::ifstream in(p, std::ios::binary);
@@ -114,7 +105,7 @@ void check_run(const Command& c, const fs::path& dest, const ofl::test::CliResul
     // One line naming a file on the destination.
     EXPECT_NE(r.output.find("error: " + dest.parent_path().string()), std::string::npos) << r.output;
   }
-  auto tmp = temporaries(dest.parent_path());
+  auto tmp = ofl::test::temporaries(dest.parent_path());
   EXPECT_TRUE(tmp.empty()) << "left behind: " << (tmp.empty() ? "" : tmp.front()) << "\n" << r.output;
 }
 
@@ -169,7 +160,7 @@ TEST(FullDevice, ParentIsAFile) {
     EXPECT_NE(r.output.find("a_file/out"), std::string::npos) << "the message must name the destination\n" << r.output;
     EXPECT_EQ(r.output.find("internal error"), std::string::npos) << r.output;
   }
-  EXPECT_TRUE(temporaries(base).empty());
+  EXPECT_TRUE(ofl::test::temporaries(base).empty());
   EXPECT_EQ(read_bytes(base / "a_file"), "not a folder\n");
   fs::remove_all(base);
 }

@@ -156,6 +156,7 @@ CameraRun simulate_camera(const SpectralImage& img, const CameraDescription& cam
   m.camera_name = cam.name;
   m.f_number = cam.lens.f_number;
   m.focal_length_mm = cam.lens.focal_length_mm;
+  m.capture_time = capture_time_text(radiance_file);
   nlohmann::json attrs = nlohmann::json::object();
   for (const auto& [k, v] : img.attributes)
     if (k.rfind("oralfluor.", 0) == 0) attrs[k] = v;

@@ -3,6 +3,8 @@
 #include <cstdlib>
 #include <ctime>
 
+#include <sys/stat.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -145,13 +147,17 @@ TiffEntry rationals(uint16_t tag, const std::vector<double>& v, bool is_signed) 
 
 }  // namespace
 
-std::string capture_time_text() {
-  std::time_t t = std::time(nullptr);
+std::string capture_time_text(const std::filesystem::path& radiance_file) {
+  std::time_t t = 0;
+  bool known = false;
   if (const char* e = std::getenv("SOURCE_DATE_EPOCH")) {
     char* end = nullptr;
     long long v = std::strtoll(e, &end, 10);
-    if (end != e && *end == 0 && v >= 0) t = static_cast<std::time_t>(v);
+    if (end != e && *end == 0 && v >= 0) t = static_cast<std::time_t>(v), known = true;
   }
+  struct stat st {};
+  if (!known && !radiance_file.empty() && ::stat(radiance_file.c_str(), &st) == 0) t = st.st_mtime, known = true;
+  if (!known) return "";
   std::tm tm{};
   gmtime_r(&t, &tm);
   char b[32];
@@ -181,10 +187,10 @@ void write_dng(const std::filesystem::path& file, const std::vector<uint16_t>& d
   e.push_back(shorts(33421, {2, 2}));                               // CFARepeatPatternDim
   auto cell = cfa_cell(m.cfa);
   e.push_back(bytes(33422, {cell[0], cell[1], cell[2], cell[3]}));  // CFAPattern (0 R, 1 G, 2 B)
-  e.push_back(ascii(306, capture_time_text()));                     // DateTime
+  if (!m.capture_time.empty()) e.push_back(ascii(306, m.capture_time));  // DateTime
   e.push_back(rationals(33434, {m.exposure_s}, false));             // ExposureTime
   if (m.f_number > 0) e.push_back(rationals(33437, {m.f_number}, false));  // FNumber
-  e.push_back(ascii(36867, capture_time_text()));                   // DateTimeOriginal
+  if (!m.capture_time.empty()) e.push_back(ascii(36867, m.capture_time));  // DateTimeOriginal
   if (m.focal_length_mm > 0) e.push_back(rationals(37386, {m.focal_length_mm}, false));  // FocalLength
   e.push_back(bytes(50706, {1, 4, 0, 0}));                          // DNGVersion
   e.push_back(bytes(50707, {1, 1, 0, 0}));                          // DNGBackwardVersion

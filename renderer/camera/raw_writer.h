@@ -27,6 +27,7 @@ struct RawMetadata {
   double exposure_s = 0;
   double f_number = 0;          // lens f-number (DNG FNumber)
   double focal_length_mm = 0;   // 0: unknown (no DNG FocalLength)
+  std::string capture_time;     // DNG DateTime (capture_time_text); "" leaves it out
   double system_gain_dn_per_e = 1;  // K at analog gain 1
   double analog_gain = 1;
   double full_well_e = 0;
@@ -43,9 +44,11 @@ struct RawMetadata {
   static RawMetadata from_json(const JsonNode& node);
 };
 
-// "YYYY:MM:DD HH:MM:SS" (TIFF/EXIF DateTime, UTC) of SOURCE_DATE_EPOCH when set (reproducible
-// outputs), else of now: the time the simulated picture was taken.
-std::string capture_time_text();
+// "YYYY:MM:DD HH:MM:SS" (TIFF/EXIF DateTime, UTC) of the moment the picture was "taken": the
+// modification time of the radiance file the camera ran on (when the scene was rendered), or
+// SOURCE_DATE_EPOCH when set; "" when neither is known. Never the time of the camera run itself, so
+// the same camera on the same radiance gives the same bytes.
+std::string capture_time_text(const std::filesystem::path& radiance_file);
 
 void write_raw_tiff(const std::filesystem::path& file, const std::vector<uint16_t>& dn, const RawMetadata& meta);
 void write_raw_sidecar(const std::filesystem::path& file, const RawMetadata& meta);

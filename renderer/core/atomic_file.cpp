@@ -11,15 +11,6 @@
 namespace ofl {
 namespace {
 
-std::string hostname() {
-  char h[256] = "";
-  ::gethostname(h, sizeof h - 1);
-  std::string s = h;
-  for (char& c : s)
-    if (c == '.' || c == '/') c = '_';
-  return s.empty() ? "host" : s;
-}
-
 std::filesystem::path folder_of(const std::filesystem::path& file) {
   return file.parent_path().empty() ? std::filesystem::path(".") : file.parent_path();
 }
@@ -80,8 +71,17 @@ void write_all(int fd, const std::string& contents, const std::filesystem::path&
 
 std::filesystem::path temporary_for(const std::filesystem::path& file) {
   std::string name(1, '.');
-  name.append(file.filename().string()).append(1, '.').append(hostname()).append(1, '.').append(std::to_string(::getpid())).append(".tmp");
+  name.append(file.filename().string()).append(1, '.').append(host_tag()).append(1, '.').append(std::to_string(::getpid())).append(".tmp");
   return folder_of(file) / name;
+}
+
+std::string host_tag() {
+  char h[256] = "";
+  ::gethostname(h, sizeof h - 1);
+  std::string s = h;
+  for (char& c : s)
+    if (c == '.' || c == '/') c = '_';
+  return s.empty() ? "host" : s;
 }
 
 void write_file_atomic(const std::filesystem::path& file, const std::string& contents) {

@@ -14,6 +14,9 @@ namespace ofl {
 // Writes `contents` to `file` atomically (temporary + fsync + rename + fsync of the folder).
 void write_file_atomic(const std::filesystem::path& file, const std::string& contents);
 
+// This machine's name as it appears in temporary names ('.' and '/' replaced by '_').
+std::string host_tag();
+
 // The temporary name used for `file` by this process.
 std::filesystem::path temporary_for(const std::filesystem::path& file);
 

@@ -9,21 +9,10 @@
 #include <fstream>
 #include <sstream>
 
+#include "renderer/core/atomic_file.h"
 #include "renderer/core/error.h"
 
 namespace ofl {
-namespace {
-
-std::string hostname() {
-  char h[256] = "";
-  ::gethostname(h, sizeof h - 1);
-  std::string s = h;
-  for (char& c : s)
-    if (c == '.' || c == '/') c = '_';
-  return s.empty() ? "host" : s;
-}
-
-}  // namespace
 
 PointStore::PointStore(std::filesystem::path out_dir, bool create) : dir_(std::move(out_dir) / "points") {
   std::error_code ec;
@@ -51,7 +40,7 @@ void PointStore::save(const std::string& key, const nlohmann::ordered_json& resu
 }
 
 int PointStore::remove_stale_temporaries() const {
-  const std::string host = std::string(1, '.').append(hostname()).append(1, '.');
+  const std::string host = std::string(1, '.').append(host_tag()).append(1, '.');
   int removed = 0;
   std::error_code ec;
   for (auto& e : std::filesystem::directory_iterator(dir_, ec)) {
