@@ -5,6 +5,7 @@
 #include <ImfHeader.h>
 #include <ImfInputFile.h>
 #include <ImfOutputFile.h>
+#include <ImfStdIO.h>
 #include <ImfStringAttribute.h>
 
 #include <algorithm>
@@ -63,7 +64,10 @@ std::vector<float> spectral_to_linear_srgb(const SpectralImage& img, double whit
   return rgb;
 }
 
-void write_spectral_exr(const std::filesystem::path& file, const SpectralImage& img) {
+namespace {
+
+// Writes `img` through an open OpenEXR stream (a file or memory).
+void write_spectral_exr_to(Imf::OStream& os, const SpectralImage& img) {
   Imf::Header header(img.width, img.height);
   header.insert("spectralLayoutVersion", Imf::StringAttribute("1.0"));
   header.insert("emissiveUnits", Imf::StringAttribute("W.m^-2.sr^-1"));
@@ -94,18 +98,31 @@ void write_spectral_exr(const std::filesystem::path& file, const SpectralImage& 
   for (auto& [name, plane] : img.aovs)
     if (plane.size() == size_t(img.width) * img.height)
       fb.insert(name, Imf::Slice(Imf::FLOAT, (char*)plane.data(), sizeof(float), sizeof(float) * img.width));
+  Imf::OutputFile out(os, header);
+  out.setFrameBuffer(fb);
+  out.writePixels(img.height);
+}
+
+}  // namespace
+
+void write_spectral_exr(const std::filesystem::path& file, const SpectralImage& img) {
   try {
     std::filesystem::path tmp = file;
     tmp += ".partial";
     {
-      Imf::OutputFile out(tmp.string().c_str(), header);
-      out.setFrameBuffer(fb);
-      out.writePixels(img.height);
+      Imf::StdOFStream os(tmp.string().c_str());
+      write_spectral_exr_to(os, img);
     }
     std::filesystem::rename(tmp, file);  // atomic: readers never see a half-written image
   } catch (const std::exception& e) {
     throw InputError(file.string(), "", std::string("cannot write EXR: ") + e.what());
   }
+}
+
+std::string spectral_exr_bytes(const SpectralImage& img) {
+  Imf::StdOSStream os;
+  write_spectral_exr_to(os, img);
+  return os.str();
 }
 
 SpectralImage read_spectral_exr(const std::filesystem::path& file) {

@@ -27,7 +27,10 @@ namespace ofl {
 std::string point_key(const SweepSpec& spec, const DesignPoint& point);
 nlohmann::json point_identity(const SweepSpec& spec, const DesignPoint& point);  // what the key hashes
 
+class RenderCache;
+
 struct PointRunContext {
+  const RenderCache* render_cache = nullptr;  // renders shared by points with the same scene (none: render every point)
   std::map<std::string, Texture> textures;  // ROI textures by path, loaded once per run
   int rank = 0;                             // MPI rank (0 without MPI), recorded in the result
   bool progress = false;                    // the renderer's progress bar

@@ -17,6 +17,9 @@ namespace ofl {
 
 // Writes `contents` to `file` atomically (temporary + fsync + rename + fsync of the folder).
 void write_file_atomic(const std::filesystem::path& file, const std::string& contents);
+// Removes the temporaries write_file_atomic left in `dir` when its process died (this host's
+// only, and only once that process is gone); returns how many.
+int remove_stale_temporaries(const std::filesystem::path& dir);
 
 class PointStore {
  public:
