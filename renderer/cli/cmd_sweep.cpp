@@ -16,7 +16,7 @@ namespace ofl {
 void register_sweep_command(CLI::App& app) {
   struct Opts {
     std::string sweep, out, shard;
-    bool json = false, report_only = false, dry_run = false, plot_files = false;
+    bool json = false, report_only = false, dry_run = false, plot_files = false, no_render_cache = false;
     std::optional<int> spp, width, height;
   };
   auto o = std::make_shared<Opts>();
@@ -31,6 +31,8 @@ void register_sweep_command(CLI::App& app) {
       ->check(CLI::Range(2, 16384));
   cmd->add_option("--height", o->height, "image height (overrides render.height; alone it keeps the aspect ratio)")
       ->check(CLI::Range(2, 16384));
+  cmd->add_flag("--no-render-cache", o->no_render_cache,
+               "render every point, even when another point rendered the same scene (as \"render\": {\"cache\": false})");
   cmd->add_flag("--report-only", o->report_only, "write the report from the finished points, compute nothing");
   cmd->add_flag("--dry-run", o->dry_run, "list the design points and which are finished, compute nothing");
   cmd->add_flag("--plot-files", o->plot_files, "also write every metric plot as SVG and PNG under <out>/plots/");
@@ -38,6 +40,7 @@ void register_sweep_command(CLI::App& app) {
   cmd->callback([o] {
     SweepSpec spec = load_sweep_spec(o->sweep);
     if (o->spp) spec.render.spp = *o->spp;
+    if (o->no_render_cache) spec.render.cache = false;
     if (o->width || o->height) {
       spec.render.width = o->width;
       spec.render.height = o->height;

@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "renderer/core/error.h"
+#include "renderer/core/file_dependencies.h"
 
 namespace ofl {
 namespace {
@@ -160,6 +161,7 @@ std::filesystem::path JsonNode::existing_file() const {
   if (p.is_relative()) p = std::filesystem::path(file_).parent_path() / p;
   std::error_code ec;
   if (!std::filesystem::is_regular_file(p, ec)) fail("file not found: " + p.string());
+  note_file_dependency(p);
   return p;
 }
 
@@ -224,6 +226,7 @@ nlohmann::json parse_json_text(const std::string& text, const std::string& file)
 JsonFile JsonFile::load(const std::filesystem::path& file) {
   std::ifstream in(file, std::ios::binary);
   if (!in) throw InputError(file.string(), "", "cannot open file");
+  note_file_dependency(file);
   std::stringstream ss;
   ss << in.rdbuf();
   JsonFile f;

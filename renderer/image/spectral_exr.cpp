@@ -86,7 +86,10 @@ class MemoryOStream : public Imf::OStream {
 };
 }  // namespace
 
-void write_spectral_exr(const std::filesystem::path& file, const SpectralImage& img) {
+namespace {
+
+// The EXR file's bytes, encoded in memory; `file` names errors.
+std::string encode_spectral_exr(const SpectralImage& img, const std::string& file) {
   Imf::Header header(img.width, img.height);
   header.insert("spectralLayoutVersion", Imf::StringAttribute("1.0"));
   header.insert("emissiveUnits", Imf::StringAttribute("W.m^-2.sr^-1"));
@@ -117,18 +120,26 @@ void write_spectral_exr(const std::filesystem::path& file, const SpectralImage& 
   for (auto& [name, plane] : img.aovs)
     if (plane.size() == size_t(img.width) * img.height)
       fb.insert(name, Imf::Slice(Imf::FLOAT, (char*)plane.data(), sizeof(float), sizeof(float) * img.width));
-  // Encoded in memory, then written with every write checked and renamed into place
-  // (write_file_atomic): readers never see a half-written image, a full disk is an error.
   MemoryOStream mem;
   try {
     Imf::OutputFile out(mem, header);
     out.setFrameBuffer(fb);
     out.writePixels(img.height);
   } catch (const std::exception& e) {
-    throw InputError(file.string(), "", std::string("cannot write EXR: ") + e.what());
+    throw InputError(file, "", std::string("cannot write EXR: ") + e.what());
   }
-  write_file_atomic(file, mem.bytes);
+  return mem.bytes;
 }
+
+}  // namespace
+
+// Encoded in memory, then written with every write checked and renamed into place
+// (write_file_atomic): readers never see a half-written image, a full disk is an error.
+void write_spectral_exr(const std::filesystem::path& file, const SpectralImage& img) {
+  write_file_atomic(file, encode_spectral_exr(img, file.string()));
+}
+
+std::string spectral_exr_bytes(const SpectralImage& img) { return encode_spectral_exr(img, "(memory)"); }
 
 SpectralImage read_spectral_exr(const std::filesystem::path& file) {
   std::error_code ec;

@@ -18,6 +18,9 @@ std::string spectral_channel_name(double nm);
 bool parse_spectral_channel_name(const std::string& name, double* nm);
 
 void write_spectral_exr(const std::filesystem::path& file, const SpectralImage& img);
+// The bytes write_spectral_exr would write (the same channels, layers, planes and attributes), for
+// callers that store them themselves (the sweep's render cache writes them atomically).
+std::string spectral_exr_bytes(const SpectralImage& img);
 // Reads every S0 channel (any order, sorted by wavelength); throws InputError when the file is
 // missing, unreadable or has no spectral channels.
 SpectralImage read_spectral_exr(const std::filesystem::path& file);

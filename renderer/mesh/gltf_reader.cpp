@@ -11,6 +11,7 @@
 #include <tiny_gltf.h>
 
 #include "renderer/core/error.h"
+#include "renderer/core/file_dependencies.h"
 
 namespace ofl {
 namespace {
@@ -178,6 +179,10 @@ GltfContents read_gltf(const std::filesystem::path& file, const glm::dmat4& worl
     for (auto& c : e) if (c == '\n') c = ' ';
     throw InputError(file.string(), "", "broken glTF: " + e);
   }
+  // External buffers (a .gltf with a .bin beside it) are inputs too (data: URIs are inside the file).
+  note_file_dependency(file);
+  for (const auto& b : model.buffers)
+    if (!b.uri.empty() && b.uri.rfind("data:", 0) != 0) note_file_dependency(file.parent_path() / b.uri);
   Reader r{model, file.string(), {}};
   r.out.generator = model.asset.generator;
   r.out.copyright = model.asset.copyright;

@@ -3,10 +3,17 @@
 #include <cmath>
 
 #include "renderer/core/asset_path.h"
+#include "renderer/core/file_dependencies.h"
 
 namespace ofl {
 
 const HemoglobinTables& hemoglobin_tables() {
+  // Noted on every call (the tables are read once per process), so that every scene that uses
+  // blood lists the same inputs (file_dependencies.h).
+  if (recording_file_dependencies()) {
+    note_file_dependency(asset_root() / "spectra/hemoglobin/oxyHemoglobin.csv");
+    note_file_dependency(asset_root() / "spectra/hemoglobin/deoxyHemoglobin.csv");
+  }
   static const HemoglobinTables t = [] {
     HemoglobinTables h;
     SpectrumCsvOptions o;

@@ -6,6 +6,8 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <optional>
+#include <set>
 #include <sstream>
 
 #include "renderer/analysis/chroma_reference.h"
@@ -14,9 +16,11 @@
 #include "renderer/camera/camera_color.h"
 #include "renderer/camera/camera_pipeline.h"
 #include "renderer/core/error.h"
+#include "renderer/core/file_dependencies.h"
 #include "renderer/image/png_writer.h"
 #include "renderer/render/render_job.h"
 #include "renderer/spectral/fluorophore_library.h"
+#include "renderer/sweep/render_cache.h"
 #include "renderer/sweep/rig_generators.h"
 #include "renderer/sweep/signal_split.h"
 #include "renderer/sweep/sweep_metrics.h"
@@ -172,6 +176,7 @@ nlohmann::json point_identity(const SweepSpec& spec, const DesignPoint& pt) {
     params.push_back(j);
   }
   nlohmann::json full = spec.to_json();
+  full["render"].erase("cache");  // where the render comes from does not change the result
   nlohmann::json rois = full["rois"];
   for (auto& r : rois)
     for (auto& t : r["textures"]) t["file"] = canonical_text(t["file"].get<std::string>());
@@ -209,7 +214,14 @@ LoadedPoint load_point(const SweepSpec& spec, const DesignPoint& pt) {
   ov.height = spec.render.height;
   LoadedPoint lp;
   try {
-    lp.scene = load_scene(JsonFile::from(docs.scene, docs.scene_file.string()), ov);
+    {
+      FileDependencyRecorder r;
+      lp.scene = load_scene(JsonFile::from(docs.scene, docs.scene_file.string()), ov);
+      // The camera whose response steers the wavelength sampling is read by the renderer: its
+      // QE and filter files are inputs of the render too.
+      if (!lp.scene.integrator.importance_camera.empty()) load_camera(lp.scene.integrator.importance_camera);
+      lp.scene_inputs = r.files();
+    }
     lp.camera = parse_camera(JsonFile::from(docs.camera, docs.camera_file.string()).root());
     lp.camera.source = docs.camera_file.string();
   } catch (const InputError& e) {
@@ -226,6 +238,8 @@ LoadedPoint load_point(const SweepSpec& spec, const DesignPoint& pt) {
     throw InputError(spec.file, where,
                      "sweep point " + std::to_string(pt.index) + " (" + label + ") makes " + e.describe());
   }
+  lp.docs = std::move(docs);
+  lp.overrides = ov;
   return lp;
 }
 
@@ -235,11 +249,40 @@ PointOutcome evaluate_point(const SweepSpec& spec, const DesignPoint& pt, PointR
   LoadedPoint lp = load_point(spec, pt);
   Scene& scene = lp.scene;
   CameraDescription& cam = lp.camera;
+  const PointDocuments& docs = lp.docs;
+  const SceneOverrides& ov = lp.overrides;
+  const std::set<std::filesystem::path>& scene_inputs = lp.scene_inputs;
 
+  // The render, or the one another point of this sweep made of the same scene with the same
+  // settings (render_cache.h): points that differ only in camera fields render once.
+  const std::filesystem::path scene_dir = docs.scene_file.parent_path();
+  double render_seconds = 0;  // spent on the renders by this point (reading them when cached)
+  auto obtain = [&](int replicate, const RenderOptions& o, std::string* rkey, bool* cached) -> std::optional<RenderResult> {
+    auto t = std::chrono::steady_clock::now();
+    nlohmann::json id = render_identity(docs.scene, scene_dir, scene_inputs, ov, replicate);
+    *rkey = render_key(id);
+    *cached = false;
+    std::optional<RenderResult> out;
+    if (ctx.render_cache)
+      if (auto c = ctx.render_cache->load(*rkey)) {
+        out = RenderResult{std::move(c->image), c->stats};
+        *cached = true;
+      }
+    if (!out) {
+      out = render(scene, o);
+      if (out->stats.interrupted) return std::nullopt;
+      if (ctx.render_cache) ctx.render_cache->save(*rkey, id, out->image, out->stats);
+    }
+    render_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+    return out;
+  };
   RenderOptions ro;
   ro.progress = ctx.progress;
-  RenderResult rr = render(scene, ro);
-  if (rr.stats.interrupted) return {{}, true};
+  std::string render_key_a, render_key_b;
+  bool cached_a = false, cached_b = false;
+  std::optional<RenderResult> first = obtain(0, ro, &render_key_a, &cached_a);
+  if (!first) return {{}, true};
+  RenderResult& rr = *first;
   // A second, independent render (another seed) for the Monte Carlo noise of the metrics; the
   // image analysed is the average of both (weighted by their sample counts).
   SpectralImage half_a, half_b;
@@ -249,9 +292,10 @@ PointOutcome evaluate_point(const SweepSpec& spec, const DesignPoint& pt, PointR
     scene.integrator.seed = seed + 0x9e3779b97f4a7c15ULL;
     RenderOptions ro2 = ro;
     ro2.aovs = false;
-    RenderResult rb = render(scene, ro2);
+    std::optional<RenderResult> second = obtain(1, ro2, &render_key_b, &cached_b);
     scene.integrator.seed = seed;
-    if (rb.stats.interrupted) return {{}, true};
+    if (!second) return {{}, true};
+    const RenderResult& rb = *second;
     half_a = rr.image;
     half_b = rb.image;
     double wa = rr.stats.spp_done, wb = rb.stats.spp_done, ws = wa + wb;
@@ -459,10 +503,13 @@ PointOutcome evaluate_point(const SweepSpec& spec, const DesignPoint& pt, PointR
                    {"spp_max", scene.integrator.spp},
                    {"noise_target", scene.integrator.noise_target},
                    {"relative_noise", stats.relative_noise},
-                   {"seconds", stats.seconds},
+                   {"seconds", render_seconds},
                    {"lights", scene.lights.size()},
                    {"bands_nm", {lo.front(), hi.back()}},
                    {"led_power_outside_bands", led_light_outside_bands(scene).outside_share}};
+  res["render_cached"] = cached_a && (spec.render.replicates < 2 || cached_b);
+  res["render_key"] = render_key_a;
+  if (spec.render.replicates == 2) res["render_key_2"] = render_key_b;
   res["camera"] = {{"name", cam.name}, {"saturated_fraction", run.summary["saturated_fraction"]}};
   res["led_band_nm"] = led_bands;
   res["scatter"] = scatter;

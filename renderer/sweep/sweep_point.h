@@ -11,7 +11,9 @@
 // when the design grows or is reordered, and can never be stored twice.
 #pragma once
 #include <cstdint>
+#include <filesystem>
 #include <map>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -20,6 +22,7 @@
 #include "renderer/camera/camera_description.h"
 #include "renderer/scene/scene.h"
 #include "renderer/scene/texture.h"
+#include "renderer/sweep/rig_generators.h"
 #include "renderer/sweep/sweep_design.h"
 #include "renderer/sweep/sweep_spec.h"
 
@@ -29,7 +32,10 @@ namespace ofl {
 std::string point_key(const SweepSpec& spec, const DesignPoint& point);
 nlohmann::json point_identity(const SweepSpec& spec, const DesignPoint& point);  // what the key hashes
 
+class RenderCache;
+
 struct PointRunContext {
+  const RenderCache* render_cache = nullptr;  // renders shared by points with the same scene (none: render every point)
   std::map<std::string, Texture> textures;  // ROI textures by path, loaded once per run
   int rank = 0;                             // MPI rank (0 without MPI), recorded in the result
   bool progress = false;                    // the renderer's progress bar
@@ -49,6 +55,9 @@ PointOutcome evaluate_point(const SweepSpec& spec, const DesignPoint& point, Poi
 struct LoadedPoint {
   Scene scene;
   CameraDescription camera;
+  PointDocuments docs;                            // the edited documents the scene and camera came from
+  SceneOverrides overrides;                       // the sweep's render settings
+  std::set<std::filesystem::path> scene_inputs;   // every file the scene loader read (part of the render key)
 };
 LoadedPoint load_point(const SweepSpec& spec, const DesignPoint& point);
 

@@ -104,7 +104,7 @@ ReportFiles write_sweep_report(const SweepSpec& spec, const std::vector<DesignPo
     std::ostringstream csv;
     csv << "index,key";
     for (auto& p : spec.parameters) csv << "," << p.name;
-    csv << ",spp,relative_noise,render_seconds,saturated_fraction";
+    csv << ",spp,relative_noise,render_seconds,render_cached,saturated_fraction";
     for (auto& c : columns) csv << "," << c;
     csv << "\n";
     nlohmann::ordered_json arr = nlohmann::ordered_json::array();
@@ -112,11 +112,13 @@ ReportFiles write_sweep_report(const SweepSpec& spec, const std::vector<DesignPo
       csv << (*r)["index"].get<int>() << "," << (*r)["key"].get<std::string>();
       for (auto& p : spec.parameters) csv << "," << csv_field((*r)["parameters"][p.name]);
       csv << "," << csv_field((*r)["render"]["spp"]) << "," << csv_field((*r)["render"]["relative_noise"]) << ","
-          << csv_field((*r)["render"]["seconds"]) << "," << csv_field((*r)["camera"]["saturated_fraction"]);
+          << csv_field((*r)["render"]["seconds"]) << ","
+          << (r->contains("render_cached") ? csv_field((*r)["render_cached"]) : std::string()) << ","
+          << csv_field((*r)["camera"]["saturated_fraction"]);
       for (auto& c : columns) csv << "," << csv_field(metric(*r, c));
       csv << "\n";
       nlohmann::ordered_json o;
-      for (const char* k : {"index", "key", "label", "parameters", "metrics", "render", "camera", "led_band_nm", "warnings"})
+      for (const char* k : {"index", "key", "label", "parameters", "metrics", "render", "render_cached", "render_key", "camera", "led_band_nm", "warnings"})
         if (r->contains(k)) o[k] = (*r)[k];
       arr.push_back(o);
     }

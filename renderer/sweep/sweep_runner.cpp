@@ -10,6 +10,7 @@
 #include "renderer/sweep/rig_generators.h"
 #include "renderer/sweep/sweep_design.h"
 #include "renderer/sweep/sweep_mpi.h"
+#include "renderer/sweep/render_cache.h"
 #include "renderer/sweep/sweep_point.h"
 #include "renderer/sweep/sweep_report.h"
 #include "renderer/sweep/sweep_store.h"
@@ -51,8 +52,9 @@ void log_line(int rank, int ranks, const std::string& s) {
 std::string done_line(const nlohmann::ordered_json& r) {
   char b[256];
   const auto& rd = r["render"];
-  std::snprintf(b, sizeof b, "point %d done in %.1f s (%d spp, relative noise %.3f)", r["index"].get<int>(),
-                r["seconds"].get<double>(), rd["spp"].get<int>(), rd["relative_noise"].get<double>());
+  std::snprintf(b, sizeof b, "point %d done in %.1f s (%d spp, relative noise %.3f%s)", r["index"].get<int>(),
+                r["seconds"].get<double>(), rd["spp"].get<int>(), rd["relative_noise"].get<double>(),
+                r.value("render_cached", false) ? ", render from renders/" : "");
   return b;
 }
 
@@ -133,6 +135,11 @@ SweepRunSummary run_sweep(const SweepSpec& spec, const SweepRunOptions& opt) {
     }
 
     PointRunContext ctx;
+    // Every rank keeps renders in <out>/renders (shared or node-local: either way a key names one
+    // render, and concurrent writers of a key write the same bytes).
+    std::optional<RenderCache> cache;
+    if (spec.render.cache && !mine.empty()) cache.emplace(opt.out_dir);
+    ctx.render_cache = cache ? &*cache : nullptr;
     ctx.rank = rank;
     ctx.progress = opt.render_progress && ranks == 1;
     int sent = 0, done_ranks = 0;

@@ -203,8 +203,9 @@ SweepSpec parse_sweep_spec(const JsonFile& f) {
   s.camera = root.at("camera").existing_file();
 
   if (auto r = root.find("render")) {
-    r->check_keys({"width", "height", "spp", "max_depth", "seed", "noise_target", "output_bands", "replicates"});
+    r->check_keys({"width", "height", "spp", "max_depth", "seed", "noise_target", "output_bands", "replicates", "cache"});
     s.render.replicates = r->integer_or("replicates", 1, 1, 2);
+    s.render.cache = r->boolean_or("cache", true);
     if (auto v = r->find("width")) s.render.width = v->integer(2, 16384);
     if (auto v = r->find("height")) s.render.height = v->integer(2, 16384);
     if (auto v = r->find("spp")) s.render.spp = v->integer(1, 1 << 24);
@@ -352,7 +353,7 @@ nlohmann::json SweepSpec::to_json() const {
           {"render", {{"width", opt(render.width)}, {"height", opt(render.height)}, {"spp", opt(render.spp)},
                       {"max_depth", opt(render.max_depth)}, {"seed", opt(render.seed)},
                       {"noise_target", opt(render.noise_target)}, {"output_bands", opt(render.output_bands)},
-                      {"replicates", render.replicates}}},
+                      {"replicates", render.replicates}, {"cache", render.cache}}},
           {"camera_run", {{"noise", opt(camera_run.noise)}, {"seed", opt(camera_run.seed)}}},
           {"design", {{"type", design.type == DesignSpec::Type::kGrid ? "grid" : "latin_hypercube"},
                       {"points", design.points}, {"seed", design.seed}}},

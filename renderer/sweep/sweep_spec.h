@@ -85,6 +85,9 @@ struct RenderSettings {
   // 2: render every point twice with different seeds and average; the difference of the two gives
   // the Monte Carlo noise of the chromaticity metrics (sweep_metrics.h "_mc", "_light").
   int replicates = 1;
+  // "cache": false: render every point, even when another point already rendered the same scene
+  // with the same settings (render_cache.h). Never part of a point's key: the results are the same.
+  bool cache = true;
 };
 
 struct CameraSettings {

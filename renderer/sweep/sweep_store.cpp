@@ -39,11 +39,13 @@ void PointStore::save(const std::string& key, const nlohmann::ordered_json& resu
   write_file_atomic(file_for(key), result.dump(1) + "\n");
 }
 
-int PointStore::remove_stale_temporaries() const {
+int PointStore::remove_stale_temporaries() const { return ofl::remove_stale_temporaries(dir_); }
+
+int remove_stale_temporaries(const std::filesystem::path& dir) {
   const std::string host = std::string(1, '.').append(host_tag()).append(1, '.');
   int removed = 0;
   std::error_code ec;
-  for (auto& e : std::filesystem::directory_iterator(dir_, ec)) {
+  for (auto& e : std::filesystem::directory_iterator(dir, ec)) {
     std::string n = e.path().filename().string();
     if (n.size() < 5 || n[0] != '.' || n.substr(n.size() - 4) != ".tmp") continue;
     size_t h = n.find(host);

@@ -17,6 +17,9 @@
 
 namespace ofl {
 
+// Removes the temporaries write_file_atomic left in `dir` when its process died (this host's
+// only, and only once that process is gone); returns how many.
+int remove_stale_temporaries(const std::filesystem::path& dir);
 
 class PointStore {
  public:
