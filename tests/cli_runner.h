@@ -3,8 +3,12 @@
 #include <sys/wait.h>
 
 #include <array>
+#include <unistd.h>
+
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <string>
 #include <vector>
 
@@ -26,6 +30,20 @@ inline CliResult run_cli(const std::string& args) {
   int status = pclose(p);
   r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   return r;
+}
+
+// An empty scratch folder of this process: <tmp>/ofl_<name>_<pid>.
+inline std::filesystem::path fresh_dir(const std::string& name) {
+  auto p = std::filesystem::temp_directory_path() / ("ofl_" + name + "_" + std::to_string(::getpid()));
+  std::filesystem::remove_all(p);
+  std::filesystem::create_directories(p);
+  return p;
+}
+
+// A whole file as bytes ("" when it cannot be read).
+inline std::string slurp(const std::filesystem::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), {});
 }
 
 // Every file under `dir` whose name marks it as a temporary (".tmp", ".partial"): what a failed

@@ -13,6 +13,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "cli_runner.h"
+
 #include "renderer/core/file_dependencies.h"
 #include "renderer/scene/scene.h"
 #include "renderer/sweep/render_cache.h"
@@ -27,17 +29,8 @@ namespace {
 
 const std::filesystem::path kSource = OFL_SOURCE_DIR;
 
-std::filesystem::path fresh(const std::string& name) {
-  auto p = std::filesystem::temp_directory_path() / ("ofl_sweep_cache_" + name + "_" + std::to_string(::getpid()));
-  std::filesystem::remove_all(p);
-  std::filesystem::create_directories(p);
-  return p;
-}
-
-std::string slurp(const std::filesystem::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
+std::filesystem::path fresh(const std::string& name) { return ofl::test::fresh_dir("sweep_cache_" + name); }
+using ofl::test::slurp;
 
 void write(const std::filesystem::path& p, const std::string& text) { std::ofstream(p, std::ios::binary) << text; }
 

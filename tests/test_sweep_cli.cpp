@@ -21,6 +21,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "cli_runner.h"
+
 #include "renderer/sweep/sweep_spec.h"
 
 extern char** environ;
@@ -30,17 +32,8 @@ namespace {
 const std::string kSource = OFL_SOURCE_DIR;
 const std::string kTiny = kSource + "/scenes/sweeps/tiny.json";
 
-std::filesystem::path fresh(const std::string& name) {
-  auto p = std::filesystem::temp_directory_path() / ("ofl_sweep_cli_" + name + "_" + std::to_string(::getpid()));
-  std::filesystem::remove_all(p);
-  std::filesystem::create_directories(p);
-  return p;
-}
-
-std::string slurp(const std::filesystem::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
+std::filesystem::path fresh(const std::string& name) { return ofl::test::fresh_dir("sweep_cli_" + name); }
+using ofl::test::slurp;
 
 struct CmdResult {
   int code = -1;
