@@ -11,6 +11,7 @@
 
 #include "renderer/core/atomic_file.h"
 #include "renderer/core/error.h"
+#include "renderer/interop/mat_prescan.h"
 
 namespace ofl {
 
@@ -122,6 +123,7 @@ MatPtr open_for_reading(const std::filesystem::path& file) {
   if (!std::filesystem::is_regular_file(file, ec)) throw InputError(file.string(), "", "file not found");
   MatPtr mat(Mat_Open(file.string().c_str(), MAT_ACC_RDONLY));
   if (!mat) throw InputError(file.string(), "", "not a MATLAB .mat file (libmatio cannot open it)");
+  if (Mat_GetVersion(mat.get()) == MAT_FT_MAT5) check_mat5_sizes(file);  // before libmatio trusts the dimensions
   return mat;
 }
 
