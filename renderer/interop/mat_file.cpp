@@ -11,8 +11,11 @@
 
 #include "renderer/core/atomic_file.h"
 #include "renderer/core/error.h"
+#include "renderer/interop/mat_prescan.h"
 
 namespace ofl {
+
+MatValue::MatValue() = default;
 
 // ---- MatValue -------------------------------------------------------------------------------
 
@@ -120,6 +123,7 @@ MatPtr open_for_reading(const std::filesystem::path& file) {
   if (!std::filesystem::is_regular_file(file, ec)) throw InputError(file.string(), "", "file not found");
   MatPtr mat(Mat_Open(file.string().c_str(), MAT_ACC_RDONLY));
   if (!mat) throw InputError(file.string(), "", "not a MATLAB .mat file (libmatio cannot open it)");
+  if (Mat_GetVersion(mat.get()) == MAT_FT_MAT5) check_mat5_sizes(file);  // before libmatio trusts the dimensions
   return mat;
 }
 
@@ -130,9 +134,27 @@ void append_numbers(const void* data, size_t n, std::vector<double>& out) {
   for (size_t i = 0; i < n; ++i) out.push_back(static_cast<double>(p[i]));
 }
 
+// Bytes per stored element of `type` (0: not a plain numeric or character storage type).
+size_t storage_size(matio_types type) {
+  switch (type) {
+    case MAT_T_INT8: case MAT_T_UINT8: case MAT_T_UTF8: return 1;
+    case MAT_T_INT16: case MAT_T_UINT16: case MAT_T_UTF16: return 2;
+    case MAT_T_INT32: case MAT_T_UINT32: case MAT_T_SINGLE: return 4;
+    case MAT_T_INT64: case MAT_T_UINT64: case MAT_T_DOUBLE: return 8;
+    default: return 0;
+  }
+}
+
+// The variable's data holds at least `n` elements of its storage type. The dimensions come from
+// the file and need not agree with the data that follows them (found by fuzz_mat: a char array
+// whose dimensions exceed its data was read past the end of the buffer).
+bool data_holds(const matvar_t* v, size_t n, size_t element) {
+  return v->data && element > 0 && v->nbytes / element >= n;
+}
+
 bool read_numbers(const matvar_t* v, size_t n, std::vector<double>& out) {
   if (n == 0) return true;
-  if (!v->data) return false;
+  if (!data_holds(v, n, storage_size(v->data_type))) return false;
   switch (v->data_type) {
     case MAT_T_DOUBLE: append_numbers<double>(v->data, n, out); return true;
     case MAT_T_SINGLE: append_numbers<float>(v->data, n, out); return true;
@@ -150,6 +172,8 @@ bool read_numbers(const matvar_t* v, size_t n, std::vector<double>& out) {
 
 std::string read_text(const matvar_t* v, size_t rows, size_t cols) {
   if (rows * cols == 0 || !v->data) return "";
+  const size_t element = v->data_type == MAT_T_UINT16 || v->data_type == MAT_T_UTF16 || v->data_type == MAT_T_INT16 ? 2 : 1;
+  if (!data_holds(v, rows * cols, element)) throw std::length_error("character data shorter than its dimensions");
   auto at = [&](size_t i) -> unsigned {
     switch (v->data_type) {
       case MAT_T_UINT16: case MAT_T_UTF16: case MAT_T_INT16: return static_cast<const uint16_t*>(v->data)[i];
@@ -192,13 +216,17 @@ MatValue convert(matvar_t* v, int depth) {
       return m;
     case MAT_C_CHAR:
       m.kind = MatValue::Kind::kText;
-      m.text = read_text(v, m.dims[0], n / std::max<size_t>(m.dims[0], 1));
+      try {
+        m.text = read_text(v, m.dims[0], n / std::max<size_t>(m.dims[0], 1));
+      } catch (const std::length_error& e) {
+        return unsupported(std::string("a char array whose ") + e.what());
+      }
       return m;
     case MAT_C_DOUBLE: case MAT_C_SINGLE: case MAT_C_INT8: case MAT_C_UINT8: case MAT_C_INT16:
     case MAT_C_UINT16: case MAT_C_INT32: case MAT_C_UINT32: case MAT_C_INT64: case MAT_C_UINT64:
       m.kind = MatValue::Kind::kNumeric;
       m.single = v->class_type == MAT_C_SINGLE;
-      if (!read_numbers(v, n, m.numbers)) return unsupported("a numeric array of an unknown storage type");
+      if (!read_numbers(v, n, m.numbers)) return unsupported("a numeric array of an unknown storage type, or with less data than its dimensions");
       return m;
     case MAT_C_STRUCT: {
       if (n != 1) return unsupported("a struct array of " + std::to_string(n) + " elements");

@@ -14,6 +14,10 @@
 namespace ofl {
 
 struct MatValue {
+  // Declared here, defaulted in mat_file.cpp: with an implicit constructor clang (with libstdc++)
+  // cannot decide whether std::pair<std::string, MatValue> is default-constructible while
+  // MatValue is still incomplete, and the recursive `fields` member fails to compile.
+  MatValue();
   enum class Kind { kEmpty, kNumeric, kText, kStruct, kCell, kUnsupported };
   Kind kind = Kind::kEmpty;
   std::vector<size_t> dims = {0, 0};  // MATLAB dimensions (at least two)
