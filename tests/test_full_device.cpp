@@ -1,13 +1,15 @@
 // Writing onto a full or impossible destination (issue 15 item 1): every command that writes files
 // is run (a) with its output under a path whose parent is a regular file and (b), when this process
 // may mount, on a small tmpfs filled to several levels of free space, so the disk runs out at
-// different files. Each run must either succeed with every expected file present, or exit 2 with
+// different files, and (c) everywhere, under a file-size limit that makes writes fail the same
+// way without mounting. Each run must either succeed with every expected file present, or exit 2 with
 // an error naming a file on that destination; it must never leave a temporary (*.tmp*, *.partial)
 // and never report an internal error. Also: identical camera runs give identical bytes (no
 // wall-clock DateTime in raw.tiff or electrons.exr).
 #include <fcntl.h>
 #include <gtest/gtest.h>
 #include <sys/mount.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <chrono>
@@ -170,7 +172,7 @@ TEST(FullDevice, NearlyFullTmpfs) {
   Tmpfs t(mnt, 1024);
   if (!t.ok()) {
     std::printf("[ SKIPPED  ] the tmpfs part: mounting a tmpfs is not permitted here (needs root or CAP_SYS_ADMIN); "
-                "only FullDevice.ParentIsAFile ran\n");
+                "FullDevice.FileSizeLimitFailsWritesLikeAFullDisk still makes every write run out of room\n");
     GTEST_SKIP() << "mount -t tmpfs not permitted";
   }
   int failures = 0, successes = 0;
@@ -188,6 +190,39 @@ TEST(FullDevice, NearlyFullTmpfs) {
     }
   }
   std::printf("full-device runs: %d failed cleanly with exit 2, %d fitted and succeeded\n", failures, successes);
+  EXPECT_GT(failures, 0);
+}
+
+// Where no tmpfs can be mounted (an unprivileged CI container), the same failures without mount:
+// a file-size limit (RLIMIT_FSIZE, set by util-linux prlimit, with SIGXFSZ ignored so a write past
+// it fails with EFBIG as on a full device). Runs everywhere, so the clean-failure path is always
+// tested: at 0 bytes every command must fail with exit 2 naming its destination; at larger limits
+// each either fits or fails cleanly, and nothing is left behind.
+TEST(FullDevice, FileSizeLimitFailsWritesLikeAFullDisk) {
+  const fs::path base = fs::temp_directory_path() / ("ofl_full_device_fsize_" + std::to_string(::getpid()));
+  int failures = 0, successes = 0;
+  for (const auto& c : commands()) {
+    for (long limit : {0L, 8L * 1024, 48L * 1024, 160L * 1024}) {
+      fs::remove_all(base);
+      fs::path dest = base / "out";
+      fs::create_directories(dest);
+      std::string cmd = "sh -c 'trap \"\" XFSZ; exec prlimit --fsize=" + std::to_string(limit) + " " + OFL_BINARY + " " +
+                        c.args(dest) + "' 2>&1";
+      ofl::test::CliResult r;
+      FILE* pipe = popen(cmd.c_str(), "r");
+      ASSERT_NE(pipe, nullptr);
+      char buf[4096];
+      size_t n;
+      while ((n = fread(buf, 1, sizeof buf, pipe)) > 0) r.output.append(buf, n);
+      int status = pclose(pipe);
+      r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+      check_run(c, dest, r, "files limited to " + std::to_string(limit) + " bytes");
+      if (limit == 0) EXPECT_EQ(r.exit_code, 2) << c.name << " succeeded although no file could be written\n" << r.output;
+      (r.exit_code == 0 ? successes : failures) += 1;
+    }
+  }
+  fs::remove_all(base);
+  std::printf("file-size-limited runs: %d failed cleanly with exit 2, %d fitted and succeeded\n", failures, successes);
   EXPECT_GT(failures, 0);
 }
 
