@@ -48,3 +48,28 @@ for nm in (385, 405, 450):
     print(f"| {nm} nm | lesion vs blood spot | | | {L['I'] / B['I']:.2f} | {L['r'] - B['r']:+.3f} | {L['g'] - B['g']:+.3f} | "
           f"{mahal(L, B, H['cov']):.2f} (means {mahal(L, B, se):.1f} standard errors apart) |")
 PY
+# The picture in docs/layered-tissue.md: every 8x8-pixel cell of the three regions in (r, g), per LED.
+/usr/bin/python3 - "$out" <<'PY'
+import csv, sys
+import matplotlib
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt
+out = sys.argv[1]
+fig, axes = plt.subplots(1, 3, figsize=(12, 4.2), sharex=True, sharey=True)
+style = {"tongue_healthy": ("healthy tongue", "0.6", 6), "dysplasia": ("dysplasia", "tab:blue", 18),
+         "blood_spot": ("blood spot", "tab:red", 18)}
+for ax, nm in zip(axes, (385, 405, 450)):
+    for m, (label, colour, size) in style.items():
+        rows = list(csv.DictReader(open(f"{out}/{nm}/cam/chroma_{m}_cells.csv")))
+        r = [float(x["r"]) for x in rows]; g = [float(x["g"]) for x in rows]
+        ax.scatter(r, g, s=size, c=colour, alpha=0.35 if m == "tongue_healthy" else 0.8, label=label, edgecolors="none")
+        ax.plot(sum(r) / len(r), sum(g) / len(g), marker="X", ms=11, c=colour, mec="k")
+    ax.set_title(f"{nm} nm LEDs, OralEye-like camera", fontsize=10)
+    ax.set_xlabel("r = R / (R+G+B)")
+axes[0].set_ylabel("g = G / (R+G+B)")
+axes[0].legend(fontsize=8, loc="upper right")
+fig.tight_layout()
+fig.savefig(f"{out}/dark_spots.png", dpi=110)
+print(f"wrote {out}/dark_spots.png")
+PY
+
