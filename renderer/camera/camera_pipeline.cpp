@@ -76,9 +76,11 @@ double electron_percentile(const ExpectedSignal& e, double pct) {
 }
 
 // Fixed or auto exposure. Expected electrons (photo and dark) are proportional to the exposure,
-// so one noise-free evaluation at the starting exposure gives the auto exposure in closed form.
+// so one noise-free evaluation at the starting exposure gives the auto exposure in closed form; it
+// is left in `*start` (at `*start_s`) for the caller to scale instead of evaluating again.
 ExposureChoice choose_exposure(const SpectralImage& img, const CameraDescription& cam, const FieldGeometry& g,
-                               const CameraRunOptions& opt, std::vector<std::string>* warnings) {
+                               const CameraRunOptions& opt, std::vector<std::string>* warnings, ExpectedSignal* start,
+                               double* start_s) {
   ExposureChoice c;
   double t0 = opt.exposure_s.value_or(cam.sensor.exposure_s);
   c.exposure_s = t0;
@@ -86,7 +88,9 @@ ExposureChoice choose_exposure(const SpectralImage& img, const CameraDescription
   if (opt.auto_exposure) {
     CameraDescription at = cam;
     at.sensor.exposure_s = t0;
-    double e = electron_percentile(expected_electrons(img, at, g), opt.auto_percentile);
+    *start = expected_electrons(img, at, g);
+    *start_s = t0;
+    double e = electron_percentile(*start, opt.auto_percentile);
     double want = opt.auto_target * cam.sensor.full_well_e;
     c.how = {{"mode", "auto"}, {"target_full_well", opt.auto_target}, {"percentile", opt.auto_percentile},
              {"start_exposure_s", t0}, {"electrons_at_start", e}};
@@ -131,9 +135,17 @@ CameraRun simulate_camera(const SpectralImage& img, const CameraDescription& cam
   std::vector<std::string> lost = lost_light_warnings(img, cam, &run.warnings);
   if (opt.strict_bands && !lost.empty()) throw InputError(radiance_file, "bands", lost.front() + " (--strict)");
   run.warnings.insert(run.warnings.end(), lost.begin(), lost.end());
-  run.exposure = choose_exposure(img, cam, run.geometry, opt, &run.warnings);
+  double start_s = 0;
+  run.exposure = choose_exposure(img, cam, run.geometry, opt, &run.warnings, &run.expected, &start_s);
   run.camera.sensor.exposure_s = run.exposure.exposure_s;
-  run.expected = expected_electrons(img, cam, run.geometry);
+  if (start_s > 0) {  // auto exposure evaluated the image already: electrons scale with the exposure
+    const double k = run.exposure.exposure_s / start_s;
+    for (float& e : run.expected.channel_e) e = static_cast<float>(e * k);
+    for (float& e : run.expected.mosaic_e) e = static_cast<float>(e * k);
+    run.expected.dark_e *= k;
+  } else {
+    run.expected = expected_electrons(img, cam, run.geometry);
+  }
   bool noise = opt.noise.value_or(cam.noise);
   uint64_t seed = opt.seed.value_or(cam.seed);
   FixedPattern fixed = noise ? make_fixed_pattern(s, img.width, img.height) : FixedPattern{};
