@@ -172,6 +172,11 @@ Material parse_tissue(const JsonNode& n, MaterialContext& ctx, const std::string
     } catch (const InputError& e) {
       throw InputError(report_file.string(), e.field(), e.what());
     }
+    if (!corr.unrendered_tissue_causes.empty())
+      throw InputError(report_file.string(), "/causes",
+                       "cause \"" + corr.unrendered_tissue_causes[0] +
+                           "\" changes the tissue's emission in a way the tissue material has no parameter for; it would be "
+                           "left out of the image (remove it from the report to render the rest)");
     // A fluorophore the preset or the user already has keeps its layer; its concentration is set
     // from the reported share below unless "concentrations" names it.
     for (auto& x : corr.extra_fluorophores)

@@ -34,6 +34,21 @@ struct CandidateSpec {
   std::string title;        // a few words: "blood absorption (oxy/deoxy hemoglobin)"
   std::vector<ParamSpec> params;  // global parameters
   int local_dofs = 0;       // amplitudes it adds to every item's local fit
+  // Tried only while the candidate with this id is active ("" = always), e.g. the emission shift
+  // of an extra fluorophore once that fluorophore is in the model.
+  std::string requires_id;
+  // The range within which an estimate is a credible physical explanation (a parameter or derived
+  // quantity by name, e.g. "fraction" of stray light up to 0.1). An estimate outside it is reported
+  // as implausible and the cause is not accepted.
+  struct Plausible {
+    std::string quantity;
+    double lo = -std::numeric_limits<double>::infinity(), hi = std::numeric_limits<double>::infinity();
+    std::string why;
+  };
+  std::vector<Plausible> plausible;
+  bool instrument = false;  // a property of the instrument, not of the tissue
+  // Overrides SelectionOptions::min_effect_to_noise for this cause (NaN: the selection's value).
+  double min_effect_to_noise = std::numeric_limits<double>::quiet_NaN();
 };
 
 struct ActiveCause {

@@ -19,6 +19,15 @@ struct SpectraProblem::Effects {
   std::vector<int> extras;  // indices into eems_
   double shift = 0, fwhm = 0, broadening = 0, stray = 0, edge = 0;
   bool lp_leak = false;
+  double emission_shift = 0;  // all fluorescence
+  struct Shape {
+    double shift = 0, width = 0;
+    double band_center = 0, band_fwhm = 0, band_ratio = 0;
+  };
+  std::map<int, Shape> shape;  // per fluorophore (index into eems_)
+  bool unknown = false;
+  double unknown_center = 0, unknown_fwhm = 0;
+  std::vector<double> response;  // log-gain at the response knots (empty: none)
 };
 
 namespace {
@@ -60,6 +69,55 @@ std::pair<double, double> mean_se(const std::vector<ItemFit>& fits, const std::s
 }
 
 }  // namespace
+
+double emission_peak_nm(const GridEem& e) {
+  auto a = e.photon_albedo();
+  int ex = static_cast<int>(std::max_element(a.begin(), a.end()) - a.begin());
+  int best = 0;
+  double bv = -1;
+  for (int em = 0; em < e.n(); ++em) {
+    double v = e.at(em, ex) / e.grid.wavelength(em);
+    if (v > bv) { bv = v; best = em; }
+  }
+  return e.grid.wavelength(best);
+}
+
+std::vector<double> gaussian_band(const WavelengthGrid& g, double center_nm, double fwhm_nm) {
+  // Unit area per nm (sum * step = 1 when the band lies inside the grid).
+  double sigma = std::max(fwhm_nm, 1e-3) / (2.0 * std::sqrt(2.0 * std::log(2.0)));
+  std::vector<double> v(g.size());
+  double norm = 1.0 / (sigma * std::sqrt(2.0 * M_PI));
+  for (int i = 0; i < g.size(); ++i) {
+    double x = (g.wavelength(i) - center_nm) / sigma;
+    v[i] = norm * std::exp(-0.5 * x * x) * g.step_nm;
+  }
+  return v;
+}
+
+double piecewise_linear(const std::vector<double>& x, const std::vector<double>& y, double at) {
+  if (x.empty()) return 0;
+  if (at <= x.front()) return y.front();
+  if (at >= x.back()) return y.back();
+  size_t k = std::upper_bound(x.begin(), x.end(), at) - x.begin();
+  double t = (at - x[k - 1]) / (x[k] - x[k - 1]);
+  return y[k - 1] * (1 - t) + y[k] * t;
+}
+
+void remove_leak_floor(std::vector<double>& leak, const WavelengthGrid& g) {
+  // A white target's spectrum through the long-pass holds the excitation light that leaks and the
+  // instrument's own flat floor (dark offset, stray light). The floor is what the stray_light cause
+  // models; left in the leak column it would let the leak's free amplitude absorb any offset.
+  // Floor: the median beyond 600 nm, where no LED light of this kind passes a blue long-pass.
+  std::vector<double> tail;
+  for (int i = 0; i < g.size(); ++i)
+    if (g.wavelength(i) >= 600 && std::isfinite(leak[i])) tail.push_back(leak[i]);
+  double floor = 0;
+  if (tail.size() >= 5) {
+    std::nth_element(tail.begin(), tail.begin() + tail.size() / 2, tail.end());
+    floor = tail[tail.size() / 2];
+  }
+  for (double& v : leak) v = std::max(v - std::max(floor, 0.0), 0.0);
+}
 
 int match_light(const std::vector<LightEntry>& lights, const std::map<std::string, std::string>& row,
                 const std::string& nearest) {
@@ -119,7 +177,11 @@ SpectraProblem::SpectraProblem(SpectraSet data, SpectraModel model) : data_(std:
   // long-pass's blocked band, so the longpass_leak column would duplicate it.
   SpectraCandidateOptions copt = model_.candidates;
   if (model_.leak != LeakSource::kMeasured) copt.leak = false;
-  candidates_ = spectra_candidates(copt, extras);
+  std::vector<FluorophoreInfo> info;
+  for (size_t k = 0; k < eem_names_.size(); ++k)
+    info.push_back({eem_names_[k], emission_peak_nm(eems_[k]), k < model_.fluorophores.size()});
+  range_ = {std::max(model_.fit_min_nm, lo), std::min(model_.fit_max_nm, hi)};
+  candidates_ = spectra_candidates(copt, info, range_);
 
   const int N = grid_.size();
   for (auto& L : model_.lights) {
@@ -146,7 +208,7 @@ SpectraProblem::SpectraProblem(SpectraSet data, SpectraModel model) : data_(std:
     }
     if (L.leak) {
       b.leak = tabulate(*L.leak, grid_);
-      for (double& v : b.leak) v = std::max(v, 0.0);
+      remove_leak_floor(b.leak, grid_);
     }
     b.e = std::move(e);
     lights_.push_back(std::move(b));
@@ -223,6 +285,25 @@ SpectraProblem::Effects SpectraProblem::decode(const ModelState& s) const {
       case SpectraCause::kStray: fx.stray = a.theta[0]; break;
       case SpectraCause::kLeak: fx.lp_leak = true; break;
       case SpectraCause::kEdge: fx.edge = a.theta[0]; break;
+      case SpectraCause::kEmissionShift: fx.emission_shift = a.theta[0]; break;
+      case SpectraCause::kFluorShift: fx.shape[eem_index(cause_fluorophore(c))].shift = a.theta[0]; break;
+      case SpectraCause::kFluorWidth: fx.shape[eem_index(cause_fluorophore(c))].width = a.theta[0]; break;
+      case SpectraCause::kFluorWidthEach:
+        for (size_t k = 0; k < a.theta.size(); ++k) fx.shape[static_cast<int>(k)].width = a.theta[k];
+        break;
+      case SpectraCause::kSecondBand: {
+        auto& sh = fx.shape[eem_index(cause_fluorophore(c))];
+        sh.band_center = a.theta[0];
+        sh.band_fwhm = a.theta[1];
+        sh.band_ratio = a.theta[2];
+        break;
+      }
+      case SpectraCause::kUnknownBand:
+        fx.unknown = true;
+        fx.unknown_center = a.theta[0];
+        fx.unknown_fwhm = a.theta[1];
+        break;
+      case SpectraCause::kResponse: fx.response = a.theta; break;
     }
   }
   return fx;
@@ -277,6 +358,37 @@ void SpectraProblem::apply_instrument(std::vector<std::vector<double>>& cols, co
       for (double& v : c) v += m;
     }
   }
+  if (!fx.response.empty()) {
+    auto knots = response_knots(range_);
+    std::vector<double> g(grid_.size());
+    for (int i = 0; i < grid_.size(); ++i) g[i] = std::exp(piecewise_linear(knots, fx.response, grid_.wavelength(i)));
+    for (auto& c : cols)
+      for (int i = 0; i < grid_.size(); ++i) c[i] *= g[i];
+  }
+}
+
+int SpectraProblem::eem_index(const std::string& name) const {
+  for (size_t k = 0; k < eem_names_.size(); ++k)
+    if (eem_names_[k] == name) return static_cast<int>(k);
+  throw std::logic_error("no fluorophore " + name + " in the diagnosis model");
+}
+
+void SpectraProblem::shape_emission(int k, const Effects& fx, std::vector<double>& col) const {
+  // Per fluorophore first (its own band shape), then what acts on all fluorescence.
+  auto it = fx.shape.find(k);
+  if (it != fx.shape.end()) {
+    const Effects::Shape& sh = it->second;
+    if (sh.band_ratio > 0) {
+      double area = 0;
+      for (double v : col) area += v;
+      auto band = gaussian_band(grid_, sh.band_center, sh.band_fwhm);
+      for (int i = 0; i < grid_.size(); ++i) col[i] += sh.band_ratio * area * band[i];
+    }
+    if (sh.width > 0) gaussian_blur(col, grid_.step_nm, sh.width);
+    if (sh.shift != 0) shift_samples(col, grid_.step_nm, sh.shift);
+  }
+  if (fx.broadening > 0) gaussian_blur(col, grid_.step_nm, fx.broadening);
+  if (fx.emission_shift != 0) shift_samples(col, grid_.step_nm, fx.emission_shift);
 }
 
 std::vector<std::vector<double>> SpectraProblem::grid_columns(int light, const Effects& fx,
@@ -305,10 +417,16 @@ std::vector<std::vector<double>> SpectraProblem::grid_columns(int light, const E
     } else {
       col = L.fluor[k];
     }
-    if (fx.broadening > 0) gaussian_blur(col, grid_.step_nm, fx.broadening);
+    shape_emission(k, fx, col);
     for (int i = 0; i < N; ++i) col[i] *= tb[i] * tlp[i];
     cols.push_back(std::move(col));
     if (names) names->push_back(eem_names_[k]);
+  }
+  if (fx.unknown) {
+    auto col = gaussian_band(grid_, fx.unknown_center, fx.unknown_fwhm);
+    for (int i = 0; i < N; ++i) col[i] *= tb[i] * tlp[i];
+    cols.push_back(std::move(col));
+    if (names) names->push_back("unknown_band");
   }
   add_leak_columns(light, fx, tlp, block, cols, names);
   apply_instrument(cols, fx);
@@ -415,6 +533,11 @@ std::vector<DerivedParam> SpectraProblem::derived_params(const CandidateSpec& c,
       d.push_back({"mean_fraction", "of the predicted signal", f, fse});
       break;
     }
+    case SpectraCause::kUnknownBand: {
+      auto [m, se] = mean_se(fits, "fraction:unknown_band");
+      d.push_back({"mean_fraction", "of the predicted signal", m, se});
+      break;
+    }
     default: break;
   }
   return d;
@@ -457,6 +580,35 @@ std::string SpectraProblem::plain_words(const CandidateSpec& c, const std::vecto
       return "Excitation light leaks through the long-pass filter in its blocked band at an effective optical density of " +
              pm(d[0].value, d[0].uncertainty, "%.2f") + " (tissue reflectance included), " +
              fmt("%.2f", 100 * d[1].value) + "% of the signal on average.";
+    case SpectraCause::kEmissionShift:
+      return "Every fluorophore's emission sits " + pm(th[0], u[0], "%+.2f") +
+             " nm from the library's (fluorescence only; the filter edge and the leak stay where they are).";
+    case SpectraCause::kFluorShift:
+      return "The emission of " + cause_fluorophore(c) + " sits " + pm(th[0], u[0], "%+.2f") +
+             " nm from the library's spectrum (bound +-15 nm).";
+    case SpectraCause::kFluorWidth:
+      return "The emission of " + cause_fluorophore(c) + " is broader than the library's: an extra Gaussian of " +
+             pm(th[0], u[0], "%.1f") + " nm FWHM (bound 0-40 nm).";
+    case SpectraCause::kFluorWidthEach: {
+      std::string s = "Each fluorophore's emission is broadened by its own Gaussian (FWHM, bound 0-40 nm):";
+      for (size_t k = 0; k < th.size(); ++k) s += " " + eem_names_[k] + " " + pm(th[k], u[k], "%.1f") + " nm;";
+      return s;
+    }
+    case SpectraCause::kSecondBand:
+      return "A second emission band of " + cause_fluorophore(c) + " at " + pm(th[0], u[0], "%.1f") + " nm, " +
+             pm(th[1], u[1], "%.1f") + " nm FWHM, carrying " + pm(100 * th[2], 100 * u[2], "%.0f") +
+             "% of the main band's energy (bounds: 25-100 nm beyond the main peak, 10-50 nm wide, 0-150 %).";
+    case SpectraCause::kUnknownBand:
+      return "An emission band that no library spectrum has: centre " + pm(th[0], u[0], "%.1f") + " nm, FWHM " +
+             pm(th[1], u[1], "%.1f") + " nm" + (d.empty() ? std::string(".") : ", " + fmt("%.1f", 100 * d[0].value) + "% of the signal on average.");
+    case SpectraCause::kResponse: {
+      auto knots = response_knots(range_);
+      std::string s = "The instrument's spectral responsivity differs from the one assumed by a smooth factor (an instrument "
+                      "mismatch, not tissue):";
+      for (size_t k = 0; k < th.size() && k < knots.size(); ++k)
+        s += " " + fmt("%.0f", knots[k]) + " nm x" + fmt("%.3f", std::exp(th[k])) + ";";
+      return s;
+    }
     case SpectraCause::kEdge: {
       double e = model_.emission_filter ? model_.emission_filter->edge_nm : 0;
       return "The long-pass filter edge is " + pm(th[0], u[0], "%+.2f") + " nm from where the model puts it (" + fmt("%.1f", e) +

@@ -92,6 +92,10 @@ class SpectraProblem : public DiagnoseProblem {
   const SpectraSet& data() const { return data_; }
   const SpectraModel& model() const { return model_; }
   const WavelengthGrid& grid() const { return grid_; }
+  const SpectraRange& fit_range() const { return range_; }
+  // Names of the fluorophores the model knows: the baseline's, then the extra candidates'.
+  const std::vector<std::string>& fluorophore_names() const { return eem_names_; }
+  const GridEem& fluorophore_eem(int k) const { return eems_[k]; }
   int light_of(int i) const { return items_[i].light; }
 
  private:
@@ -116,6 +120,8 @@ class SpectraProblem : public DiagnoseProblem {
   void add_leak_columns(int light, const Effects& fx, const std::vector<double>& tlp, const std::vector<double>& block,
                         std::vector<std::vector<double>>& cols, std::vector<std::string>* names) const;
   void apply_instrument(std::vector<std::vector<double>>& cols, const Effects& fx) const;
+  int eem_index(const std::string& name) const;
+  void shape_emission(int k, const Effects& fx, std::vector<double>& col) const;
   Eigen::MatrixXd sample(const std::vector<std::vector<double>>& cols, const Item& it) const;
 
   SpectraSet data_;
@@ -127,7 +133,18 @@ class SpectraProblem : public DiagnoseProblem {
   std::vector<Item> items_;
   std::vector<CandidateSpec> candidates_;
   std::vector<int> fit_grid_;  // grid indices inside the fit range (for the stray-light mean)
+  SpectraRange range_;         // wavelengths fitted (fit range within the data)
 };
+
+// Removes a measured white-target leak spectrum's flat instrument floor (median beyond 600 nm),
+// clipping at zero: the column keeps only the excitation light that leaks.
+void remove_leak_floor(std::vector<double>& leak, const WavelengthGrid& g);
+// Emission peak (energy units) of a fluorophore under its most efficient excitation.
+double emission_peak_nm(const GridEem& e);
+// A Gaussian band on the grid, unit area (per nm x step).
+std::vector<double> gaussian_band(const WavelengthGrid& g, double center_nm, double fwhm_nm);
+// Linear interpolation in a table (x increasing), constant beyond its ends.
+double piecewise_linear(const std::vector<double>& x, const std::vector<double>& y, double at);
 
 // The light entry for a row of conditions: all `when` columns equal, except `nearest` (if set)
 // which picks the closest number. -1 when none fits.

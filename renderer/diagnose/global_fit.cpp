@@ -156,15 +156,16 @@ GlobalFit fit_global(const DiagnoseProblem& p, ModelState start, const std::vect
       f = f_new;
       if (rel < opt.rel_tolerance) break;
     }
-    jacobian();
+    if (opt.uncertainties) jacobian();
   }
   out.state = s;
   out.rss = f;
   out.n_obs = cur.r.size();
   out.local_dofs = cur.local;
   out.iterations = it;
-  out.jtj = np > 0 ? Eigen::MatrixXd(J.transpose() * J) : Eigen::MatrixXd();
   out.se.assign(np, 0.0);
+  if (!opt.uncertainties) return out;
+  out.jtj = np > 0 ? Eigen::MatrixXd(J.transpose() * J) : Eigen::MatrixXd();
   if (np > 0) {
     double dof = std::max<double>(1, static_cast<double>(out.n_obs - np - out.local_dofs));
     double s2 = f / dof;

@@ -12,7 +12,17 @@ namespace ofl {
 struct GlobalFitOptions {
   int max_iterations = 40;
   double rel_tolerance = 1e-7;  // stop when the sum of squares improves by less than this fraction
+  bool uncertainties = true;    // J^T J and standard errors at the optimum (one more Jacobian)
 };
+// What the cross-validation of a candidate needs: a prediction, not uncertainties, from a warm
+// start (the previous step's fold fits), so fewer iterations and a looser tolerance.
+inline GlobalFitOptions trial_fit_options() {
+  GlobalFitOptions o;
+  o.max_iterations = 15;
+  o.rel_tolerance = 1e-6;
+  o.uncertainties = false;
+  return o;
+}
 
 struct GlobalFit {
   ModelState state;

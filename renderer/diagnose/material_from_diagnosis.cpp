@@ -47,6 +47,10 @@ TissueCorrections tissue_corrections_from_report(const nlohmann::json& report) {
       c.extra_fluorophores.push_back(e);
     } else if (name == "emission_broadening") {
       c.emission_broadening_fwhm_nm = need(par, "fwhm_nm", name);
+    } else if (!name.empty() && !cause.value("instrument", true)) {
+      // A tissue cause the surface material has no parameter for (a per-fluorophore emission
+      // shift, width or second band, an unknown band): the caller warns that it is not rendered.
+      c.unrendered_tissue_causes.push_back(cause.value("id", name));
     } else if (!name.empty()) {
       c.instrument_causes.push_back(name);
     }

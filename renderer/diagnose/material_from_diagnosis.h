@@ -34,6 +34,7 @@ struct TissueCorrections {
   std::vector<ExtraFluorophoreShare> extra_fluorophores;
   double emission_broadening_fwhm_nm = 0;
   std::vector<std::string> instrument_causes;  // accepted causes that are not tissue properties
+  std::vector<std::string> unrendered_tissue_causes;  // tissue causes the material cannot express
   bool empty() const { return !blood && extra_fluorophores.empty() && emission_broadening_fwhm_nm <= 0; }
 };
 

@@ -17,9 +17,8 @@ namespace {
 
 bool is_instrument_column(const std::string& name) { return name == "leak" || name == "longpass_leak"; }
 
-bool is_tissue_cause(SpectraCause c) {
-  return c == SpectraCause::kBlood || c == SpectraCause::kBroadening || c == SpectraCause::kExtraFluorophore;
-}
+// Tissue causes travel with the rendered radiance; instrument causes are applied to it.
+bool is_tissue_cause(const CandidateSpec& c) { return !c.instrument; }
 
 }  // namespace
 
@@ -106,7 +105,7 @@ ModelState instrument_only(const SpectraProblem& p, const ModelState& s) {
   ModelState out = s;
   out.causes.clear();
   for (auto& c : s.causes)
-    if (!is_tissue_cause(spectra_cause(p.candidates()[c.candidate]))) out.causes.push_back(c);
+    if (!is_tissue_cause(p.candidates()[c.candidate])) out.causes.push_back(c);
   return out;
 }
 
