@@ -103,7 +103,7 @@ Folds make_folds(const DiagnoseProblem& p, const std::vector<std::string>& cols)
 }
 
 CvRun cross_validate(const DiagnoseProblem& p, const std::vector<ModelState>& starts, int grid_cause, const Folds& folds,
-                     bool parallel) {
+                     bool parallel, const GlobalFitOptions& fo) {
   const int G = folds.count();
   CvRun run;
   run.heldout.resize(p.num_items());
@@ -112,7 +112,7 @@ CvRun cross_validate(const DiagnoseProblem& p, const std::vector<ModelState>& st
   auto one = [&](int g) {
     std::vector<int> train, test;
     for (int i = 0; i < p.num_items(); ++i) (folds.of_item[i] == g ? test : train).push_back(i);
-    GlobalFit fit = fit_global(p, starts[g], train, grid_cause);
+    GlobalFit fit = fit_global(p, starts[g], train, grid_cause, fo);
     run.fold_states[g] = fit.state;
     auto fits = p.evaluate(fit.state, test);
     for (size_t k = 0; k < test.size(); ++k) {
@@ -153,55 +153,216 @@ GroupGain group_gain(const DiagnoseProblem& p, const CvRun& a, const CvRun& b, c
 
 namespace {
 
+// The smallest effect (x the noise floor) for which a cause is named. `mismatch`: the baseline
+// shows an instrument mismatch (SelectionOptions), which raises the bar for tissue causes.
+double min_effect_of(const CandidateSpec& c, const SelectionOptions& o, bool mismatch) {
+  double m = std::isnan(c.min_effect_to_noise) ? o.min_effect_to_noise : c.min_effect_to_noise;
+  if (mismatch && !c.instrument) m = std::max(m, o.mismatch_tissue_min_effect);
+  return m;
+}
+
+// Held-out gain statistics of a candidate over a set of items.
+struct GainStats {
+  double mean = 0, optimism = 0, se = 0, sd_noise = 0;
+  int n = 0;
+  double threshold(double z) const { return optimism + z * std::max(sd_noise, se); }
+};
+
+GainStats gain_stats(const std::vector<double>& d, const std::vector<double>& mu, const std::vector<double>& sd2,
+                     const std::vector<int>& items) {
+  GainStats g;
+  g.n = static_cast<int>(items.size());
+  if (items.empty()) return g;
+  double s2 = 0;
+  for (int i : items) { g.mean += d[i]; g.optimism += mu[i]; s2 += sd2[i]; }
+  g.mean /= g.n;
+  g.optimism /= g.n;
+  double var = 0;
+  for (int i : items) var += (d[i] - g.mean) * (d[i] - g.mean);
+  g.se = g.n > 1 ? std::sqrt(var / (g.n - 1) / g.n) : 0;
+  g.sd_noise = std::sqrt(s2 / g.n) / std::sqrt(static_cast<double>(g.n));
+  return g;
+}
+
+// Parameters of the candidate (the last cause of every fold's state) that end on one of their
+// bounds in more than half of the fold fits.
+std::vector<std::string> params_at_bound(const DiagnoseProblem& p, int cand, const CvRun& after) {
+  std::vector<std::string> out;
+  const auto& spec = p.candidates()[cand];
+  for (size_t k = 0; k < spec.params.size(); ++k) {
+    const ParamSpec& ps = spec.params[k];
+    int at = 0, n = 0;
+    for (auto& st : after.fold_states) {
+      if (st.causes.empty() || st.causes.back().candidate != cand) continue;
+      double v = st.causes.back().theta[k];
+      double tol = 1e-3 * std::max(1e-9, std::isfinite(ps.hi - ps.lo) ? ps.hi - ps.lo : std::fabs(v) + 1);
+      ++n;
+      if ((std::isfinite(ps.lo) && v <= ps.lo + tol) || (std::isfinite(ps.hi) && v >= ps.hi - tol)) ++at;
+    }
+    // A parameter that rests at its starting value 0 on the lower bound (a cause that is off) is
+    // not "pushed to a bound"; only a bound away from the cause's null value counts.
+    bool null_bound = ps.lo == ps.init && ps.init == 0;
+    if (n && 2 * at > n) {
+      double mean = 0;
+      for (auto& st : after.fold_states)
+        if (!st.causes.empty() && st.causes.back().candidate == cand) mean += st.causes.back().theta[k] / n;
+      bool on_lo = std::isfinite(ps.lo) && std::fabs(mean - ps.lo) < std::fabs(mean - ps.hi);
+      if (!(on_lo && null_bound)) out.push_back(ps.name + " = " + fmtg(on_lo ? ps.lo : ps.hi) + " (" + (on_lo ? "lower" : "upper") + " bound)");
+    }
+  }
+  return out;
+}
+
+// Estimates outside the candidate's plausible range: global parameters averaged over the fold
+// fits, derived quantities from the held-out fits.
+std::vector<std::string> implausible_estimates(const DiagnoseProblem& p, int cand, const CvRun& after) {
+  std::vector<std::string> out;
+  const auto& spec = p.candidates()[cand];
+  if (spec.plausible.empty()) return out;
+  std::vector<int> all(p.num_items());
+  for (int i = 0; i < p.num_items(); ++i) all[i] = i;
+  auto derived = p.derived_params(spec, after.heldout, all);
+  for (auto& q : spec.plausible) {
+    double v = NAN;
+    for (size_t k = 0; k < spec.params.size(); ++k)
+      if (spec.params[k].name == q.quantity) {
+        double m = 0;
+        int n = 0;
+        for (auto& st : after.fold_states)
+          if (!st.causes.empty() && st.causes.back().candidate == cand) { m += st.causes.back().theta[k]; ++n; }
+        if (n) v = m / n;
+      }
+    for (auto& dp : derived)
+      if (dp.name == q.quantity) v = dp.value;
+    if (std::isfinite(v) && (v < q.lo || v > q.hi))
+      out.push_back(q.quantity + " " + fmtg(v) + " outside [" + fmtg(q.lo) + ", " + fmtg(q.hi) + "]: " + q.why);
+  }
+  return out;
+}
+
+// The subsets (column=value) a cause may be carried by: columns with at least two values.
+std::vector<std::pair<std::string, std::vector<int>>> item_subsets(const DiagnoseProblem& p, const SelectionOptions& o) {
+  std::vector<std::pair<std::string, std::vector<int>>> out;
+  for (auto& col : o.subset_columns) {
+    std::map<std::string, std::vector<int>> by;
+    for (int i = 0; i < p.num_items(); ++i) {
+      std::string v = p.condition(i, col);
+      if (!v.empty()) by[v].push_back(i);
+    }
+    if (by.size() < 2) continue;
+    for (auto& [v, items] : by)
+      if (items.size() >= 2) out.push_back({col + "=" + v, items});
+  }
+  return out;
+}
+
+// Subsets whose held-out gain passes the test on their own, at a z raised for the number of
+// subsets tried, without making the other items significantly worse, with an effect that is not
+// negligible. Fills the trial's carriers (values of a column that carry the gain when they are a
+// minority of that column's values) and returns the best subset's name.
+std::string carrying_subsets(const DiagnoseProblem& p, const std::vector<double>& d, const std::vector<double>& mu,
+                             const std::vector<double>& sd2, const NoiseFloor& nf, const SelectionOptions& o, CandidateTrial& t) {
+  auto subsets = item_subsets(p, o);
+  if (subsets.empty()) return "";
+  const double z_sub = o.z + std::sqrt(2.0 * std::log(static_cast<double>(subsets.size())));
+  const double min_effect = min_effect_of(p.candidates()[t.candidate], o, nf.instrument_mismatch);
+  std::string best;
+  double best_margin = 0;
+  std::map<std::string, std::pair<int, int>> per_column;  // passing, total values
+  std::vector<std::string> passing;
+  for (auto& [name, items] : subsets) {
+    std::string column = name.substr(0, name.find('='));
+    per_column[column].second++;
+    if (static_cast<int>(items.size()) == p.num_items()) continue;
+    GainStats in = gain_stats(d, mu, sd2, items);
+    std::vector<int> rest;
+    std::vector<char> mark(p.num_items(), 0);
+    for (int i : items) mark[i] = 1;
+    for (int i = 0; i < p.num_items(); ++i)
+      if (!mark[i]) rest.push_back(i);
+    GainStats out = gain_stats(d, mu, sd2, rest);
+    double thr = in.threshold(z_sub);
+    bool effect_ok = std::sqrt(std::max(0.0, in.mean - in.optimism)) >= min_effect * nf.rmse;
+    // "Not made worse": the raw held-out change (an unused amplitude changes nothing, so the
+    // optimism of the extra amplitudes is not charged here).
+    bool rest_ok = out.n == 0 || out.mean > -o.z * std::max(out.se, out.sd_noise);
+    if (!(in.mean > thr && effect_ok && rest_ok)) continue;
+    per_column[column].first++;
+    passing.push_back(name);
+    if (in.mean - thr > best_margin) {
+      best_margin = in.mean - thr;
+      best = name;
+      t.subset_gain = in.mean;
+      t.subset_threshold = thr;
+    }
+  }
+  for (auto& name : passing) {
+    auto& [pass, total] = per_column[name.substr(0, name.find('='))];
+    if (2 * pass < total) t.carriers.push_back(name);
+  }
+  return best;
+}
+
 CandidateTrial judge(const DiagnoseProblem& p, int cand, const CvRun& before, CvRun after, const Folds& folds,
                      const NoiseFloor& nf, const SelectionOptions& o) {
   CandidateTrial t;
   t.candidate = cand;
   const int M = p.num_items();
   const int dp = cand >= 0 ? p.candidates()[cand].local_dofs : 0;
-  std::vector<double> d(M), mu(M);
-  double sd2 = 0;
+  std::vector<double> d(M), mu(M), sd2(M);
   for (int i = 0; i < M; ++i) {
     double n = static_cast<double>(std::max<Eigen::Index>(1, after.heldout[i].residual.size()));
     double neff = std::max(1.0, n * nf.n_eff_ratio);
     d[i] = before.item_mse[i] - after.item_mse[i];
     mu[i] = dp * nf.variance / neff;
-    sd2 += 2.0 * std::max(dp, 1) * nf.variance * nf.variance / (neff * neff);
+    sd2[i] = 2.0 * std::max(dp, 1) * nf.variance * nf.variance / (neff * neff);
   }
-  double mean = 0, optimism = 0;
-  for (int i = 0; i < M; ++i) { mean += d[i]; optimism += mu[i]; }
-  mean /= M;
-  optimism /= M;
-  double var = 0;
-  for (int i = 0; i < M; ++i) var += (d[i] - mean) * (d[i] - mean);
-  t.se_items = M > 1 ? std::sqrt(var / (M - 1) / M) : 0;
-  t.sd_noise = std::sqrt(sd2 / M) / std::sqrt(static_cast<double>(M));
-  t.mean_gain = mean;
-  t.optimism = optimism;
-  t.threshold = optimism + o.z * std::max(t.sd_noise, t.se_items);
+  std::vector<int> all(M);
+  for (int i = 0; i < M; ++i) all[i] = i;
+  GainStats g = gain_stats(d, mu, sd2, all);
+  t.se_items = g.se;
+  t.sd_noise = g.sd_noise;
+  t.mean_gain = g.mean;
+  t.optimism = g.optimism;
+  t.threshold = g.threshold(o.z);
   t.folds = folds.count();
-  for (int g = 0; g < folds.count(); ++g) {
+  for (int f = 0; f < folds.count(); ++f) {
     double s = 0;
     int n = 0;
     for (int i = 0; i < M; ++i)
-      if (folds.of_item[i] == g) { s += d[i] - mu[i]; ++n; }
+      if (folds.of_item[i] == f) { s += d[i] - mu[i]; ++n; }
     if (n && s > 0) ++t.folds_improved;
   }
   t.rmse_before = before.rmse();
   t.rmse_after = after.rmse();
-  bool gain_ok = mean > t.threshold;
+  bool gain_ok = g.mean > t.threshold;
   bool folds_ok = t.folds_improved > o.min_fold_fraction * t.folds;
-  double effect = std::sqrt(std::max(0.0, mean - optimism));
-  bool size_ok = effect >= o.min_effect_to_noise * nf.rmse;
-  t.accepted = gain_ok && folds_ok && size_ok;
+  double effect = std::sqrt(std::max(0.0, g.mean - g.optimism));
+  const double min_effect = min_effect_of(p.candidates()[cand], o, nf.instrument_mismatch);
+  bool size_ok = effect >= min_effect * nf.rmse;
+  bool pooled = gain_ok && folds_ok && size_ok;
+  if (g.mean > g.optimism) {
+    std::string best = carrying_subsets(p, d, mu, sd2, nf, o, t);
+    if (!pooled) t.carried_by = best;
+  }
+  t.at_bound = params_at_bound(p, cand, after);
+  t.implausible = implausible_estimates(p, cand, after);
+  bool statistics_ok = pooled || !t.carried_by.empty();
+  t.accepted = statistics_ok && t.at_bound.empty() && t.implausible.empty();
   if (t.accepted)
-    t.verdict = "held-out gain beats the noise";
+    t.verdict = t.carried_by.empty() ? "held-out gain beats the noise"
+                                     : "held-out gain beats the noise on " + t.carried_by + " (gain " + fmtg(t.subset_gain) +
+                                           " > " + fmtg(t.subset_threshold) + "); not on the pooled data";
+  else if (statistics_ok && !t.at_bound.empty())
+    t.verdict = "not accepted on the strength of a bound: " + t.at_bound[0];
+  else if (statistics_ok)
+    t.verdict = "implausible: " + t.implausible[0];
   else if (!gain_ok)
-    t.verdict = "held-out gain " + fmtg(mean) + " below the threshold " + fmtg(t.threshold);
+    t.verdict = "held-out gain " + fmtg(g.mean) + " below the threshold " + fmtg(t.threshold);
   else if (!folds_ok)
     t.verdict = "improves only " + std::to_string(t.folds_improved) + " of " + std::to_string(t.folds) + " held-out groups";
   else
-    t.verdict = "significant but negligible: effect RMS " + fmtg(effect) + " < " + fmtg(o.min_effect_to_noise) + " x noise floor";
+    t.verdict = "significant but negligible: effect RMS " + fmtg(effect) + " < " + fmtg(min_effect) + " x noise floor";
   t.cv = std::move(after);
   return t;
 }
@@ -218,6 +379,107 @@ std::vector<GroupGain> breakdown(const DiagnoseProblem& p, const CvRun& a, const
   std::vector<GroupGain> out;
   for (auto& v : order) out.push_back(group_gain(p, a, b, by[v], v));
   return out;
+}
+
+bool requirement_met(const DiagnoseProblem& p, const ModelState& s, int c) {
+  const std::string& req = p.candidates()[c].requires_id;
+  if (req.empty()) return true;
+  for (auto& a : s.causes)
+    if (p.candidates()[a.candidate].id == req) return true;
+  return false;
+}
+
+// A global broadening of every fluorophore stays a candidate only while no per-fluorophore shape
+// cause (a width, shift or second band of one named fluorophore) explains as much held out.
+// Per-item held-out gain of trial a over trial b (same step, same "before"): mean and standard error.
+std::pair<double, double> gain_difference(const CandidateTrial& a, const CandidateTrial& b) {
+  const size_t M = a.cv.item_mse.size();
+  if (M < 2 || b.cv.item_mse.size() != M) return {0, 0};
+  std::vector<double> d(M);
+  double m = 0;
+  for (size_t i = 0; i < M; ++i) { d[i] = b.cv.item_mse[i] - a.cv.item_mse[i]; m += d[i]; }
+  m /= M;
+  double v = 0;
+  for (double x : d) v += (x - m) * (x - m);
+  return {m, std::sqrt(v / (M - 1) / M)};
+}
+
+// One width per fluorophore contains the single global width; it is preferred only when it
+// predicts held-out data significantly better (z standard errors of the per-item difference).
+void prefer_single_width(const DiagnoseProblem& p, std::vector<CandidateTrial>& trials, double z) {
+  CandidateTrial* global = nullptr;
+  CandidateTrial* each = nullptr;
+  for (auto& t : trials) {
+    if (p.candidates()[t.candidate].name == "emission_broadening") global = &t;
+    if (p.candidates()[t.candidate].name == "emission_width_each") each = &t;
+  }
+  if (!global || !each || !global->accepted || !each->accepted) return;
+  auto [m, se] = gain_difference(*each, *global);
+  if (!(m > z * se)) {
+    each->accepted = false;
+    each->verdict = "no better held out than one width for all fluorophores (difference " + fmtg(m) + " +/- " + fmtg(se) + ")";
+  }
+}
+
+void reject_dominated_global_broadening(const DiagnoseProblem& p, std::vector<CandidateTrial>& trials) {
+  for (auto& t : trials) {
+    if (p.candidates()[t.candidate].name != "emission_broadening" || !t.accepted) continue;
+    for (auto& u : trials) {
+      const std::string& n = p.candidates()[u.candidate].name;
+      bool per_fluorophore = n == "emission_width" || n == "emission_width_each" || n == "emission_shift" || n == "second_band";
+      if (per_fluorophore && p.candidates()[u.candidate].id != "emission_shift" && &u != &t &&
+          u.mean_gain - u.optimism >= t.mean_gain - t.optimism && u.accepted) {
+        t.accepted = false;
+        t.verdict = "a per-fluorophore alternative (" + p.candidates()[u.candidate].id + ") explains as much held out";
+        break;
+      }
+    }
+  }
+}
+
+std::vector<std::string> final_params_at_bound(const CandidateSpec& c, const std::vector<double>& theta) {
+  std::vector<std::string> out;
+  for (size_t k = 0; k < c.params.size() && k < theta.size(); ++k) {
+    const ParamSpec& ps = c.params[k];
+    double span = std::isfinite(ps.hi - ps.lo) ? ps.hi - ps.lo : std::fabs(theta[k]) + 1;
+    if (std::isfinite(ps.hi) && theta[k] >= ps.hi - 1e-3 * span) out.push_back(ps.name + " at its upper bound " + fmtg(ps.hi));
+    if (std::isfinite(ps.lo) && theta[k] <= ps.lo + 1e-3 * span && !(ps.lo == 0 && ps.init == 0))
+      out.push_back(ps.name + " at its lower bound " + fmtg(ps.lo));
+  }
+  return out;
+}
+
+struct LackOfFit {
+  double ratio = 0;         // full-fit RMSE / noise floor RMSE
+  double common_share = 0;  // share of the residual sum of squares held by the mean residual
+  std::vector<double> nm, shape;
+};
+
+// Lack of fit of a fitted state against the noise floor, and the share of its residual that one
+// shape common to all items explains (items on the same abscissa only).
+LackOfFit lack_of_fit(const DiagnoseProblem& p, const GlobalFit& fit, const NoiseFloor& floor) {
+  LackOfFit l;
+  const long n = std::max<long>(1, fit.n_obs);
+  l.ratio = floor.rmse > 0 ? std::sqrt(fit.rss / n) / floor.rmse : 0;
+  std::vector<int> all(p.num_items());
+  for (int i = 0; i < p.num_items(); ++i) all[i] = i;
+  auto fits = p.evaluate(fit.state, all);
+  if (fits.empty()) return l;
+  const Eigen::Index len = fits[0].residual.size();
+  for (auto& f : fits)
+    if (f.residual.size() != len) return l;
+  Eigen::VectorXd m = Eigen::VectorXd::Zero(len);
+  double total = 0;
+  for (auto& f : fits) { m += f.residual; total += f.residual.squaredNorm(); }
+  m /= static_cast<double>(fits.size());
+  l.common_share = total > 0 ? m.squaredNorm() * fits.size() / total : 0;
+  l.nm = p.abscissa(0);
+  l.shape.assign(m.data(), m.data() + m.size());
+  return l;
+}
+
+bool is_mismatch(const LackOfFit& l, const SelectionOptions& o) {
+  return l.ratio < o.mismatch_max_lack_of_fit && l.common_share > o.mismatch_min_common_share;
 }
 
 }  // namespace
@@ -244,8 +506,16 @@ Diagnosis diagnose(const DiagnoseProblem& p, const SelectionOptions& o) {
     dg.floor.rmse = std::sqrt(dg.floor.variance);
     dg.floor.source = "baseline residual (no replicates and no other noise estimate; conservative)";
   }
+  {
+    LackOfFit l = lack_of_fit(p, dg.baseline_fit, dg.floor);
+    dg.baseline_lack_of_fit = l.ratio;
+    dg.common_shape_share = l.common_share;
+    dg.common_shape_nm = l.nm;
+    dg.common_shape = l.shape;
+    dg.instrument_mismatch = is_mismatch(l, o);
+  }
   std::vector<ModelState> starts(G, base);
-  dg.baseline_cv = cross_validate(p, starts, -1, dg.folds, o.parallel);
+  dg.baseline_cv = cross_validate(p, starts, -1, dg.folds, o.parallel, GlobalFitOptions{});
 
   CvRun current = dg.baseline_cv;
   GlobalFit full = dg.baseline_fit;
@@ -254,8 +524,12 @@ Diagnosis diagnose(const DiagnoseProblem& p, const SelectionOptions& o) {
   for (int step = 1; step <= o.max_causes; ++step) {
     std::vector<int> todo;
     for (int c = 0; c < C; ++c)
-      if (!full.state.has(c)) todo.push_back(c);
+      if (!full.state.has(c) && requirement_met(p, full.state, c)) todo.push_back(c);
     if (todo.empty()) break;
+    // Once the model in hand nearly fits and what it misses is one shape shared by every item,
+    // tissue causes must exceed the noise floor (SelectionOptions: instrument mismatch).
+    NoiseFloor floor = dg.floor;
+    floor.instrument_mismatch = step == 1 ? dg.instrument_mismatch : is_mismatch(lack_of_fit(p, full, dg.floor), o);
     std::vector<CvRun> runs(todo.size());
     ProgressBar bar("diagnose: cause " + std::to_string(step) + ", candidates", static_cast<int64_t>(todo.size()));
     auto run_one = [&](size_t k) {
@@ -269,8 +543,10 @@ Diagnosis diagnose(const DiagnoseProblem& p, const SelectionOptions& o) {
     else
       for (size_t k = 0; k < todo.size(); ++k) run_one(k);
     std::vector<CandidateTrial> trials;
-    for (size_t k = 0; k < todo.size(); ++k) trials.push_back(judge(p, todo[k], current, std::move(runs[k]), dg.folds, dg.floor, o));
+    for (size_t k = 0; k < todo.size(); ++k) trials.push_back(judge(p, todo[k], current, std::move(runs[k]), dg.folds, floor, o));
     if (step == 1) solo = trials;
+    prefer_single_width(p, trials, o.z);
+    reject_dominated_global_broadening(p, trials);
     int best = -1;
     for (size_t k = 0; k < trials.size(); ++k)
       if (trials[k].accepted &&
@@ -330,6 +606,7 @@ Diagnosis diagnose(const DiagnoseProblem& p, const SelectionOptions& o) {
     off += a.theta.size();
     const CandidateSpec& c = p.candidates()[a.candidate];
     cr.derived = p.derived_params(c, fits_all, all);
+    cr.at_bound = final_params_at_bound(c, cr.theta);
     cr.words = p.plain_words(c, cr.theta, cr.uncertainty, cr.derived);
   }
 
@@ -353,6 +630,10 @@ Diagnosis diagnose(const DiagnoseProblem& p, const SelectionOptions& o) {
     dg.verdict = std::to_string(dg.causes.size()) + " cause(s) found:";
     for (auto& c : dg.causes) dg.verdict += " " + p.candidates()[c.candidate].id;
   }
+  if (dg.instrument_mismatch)
+    dg.verdict += "; instrument mismatch: the baseline misses by only " + fmtg(dg.baseline_lack_of_fit) +
+                  " x the noise floor and " + fmtg(100 * dg.common_shape_share) +
+                  " % of its residual is one shape shared by every item (tissue causes had to exceed the noise floor)";
   return dg;
 }
 

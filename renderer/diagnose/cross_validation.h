@@ -37,6 +37,19 @@ struct SelectionOptions {
   // sqrt(gain - optimism), must be at least this fraction of the noise floor's RMSE. With many
   // spectra a 0.04 nm edge shift (grid discretisation) is statistically clear but not worth naming.
   double min_effect_to_noise = 0.25;
+  // A cause carried by a subset of the items (one subject, session, site or light) is accepted
+  // when, on that subset's held-out items, it passes the same test with z raised for the number
+  // of subsets tried (z + sqrt(2 ln K)), and it does not significantly worsen the other items.
+  // Columns whose values define the subsets (those absent from the data are skipped).
+  std::vector<std::string> subset_columns = {"subject", "date", "site", "light_nm"};
+  // Instrument mismatch: when the baseline nearly fits (full-fit RMSE below
+  // `mismatch_max_lack_of_fit` x the noise floor) and most of its residual is one shape shared by
+  // every item (share above `mismatch_min_common_share`), what is left is the signature of a
+  // slightly wrong instrument or library description, not of tissue. Tissue causes must then
+  // explain at least `mismatch_tissue_min_effect` x the noise floor to be named.
+  double mismatch_max_lack_of_fit = 2.0;
+  double mismatch_min_common_share = 0.5;
+  double mismatch_tissue_min_effect = 1.0;
   bool parallel = true;
 };
 
@@ -47,6 +60,7 @@ struct NoiseFloor {
   double lag1 = 0;
   int sets = 0, items = 0;
   std::string source;      // how it was measured, in words
+  bool instrument_mismatch = false;  // set by diagnose() (SelectionOptions: instrument mismatch)
 };
 // Pure error of `fits` (one per item, e.g. the baseline fitted to all items) within replicate sets.
 NoiseFloor estimate_noise_floor(const DiagnoseProblem& p, const std::vector<std::string>& replicate_columns,
@@ -69,7 +83,7 @@ struct CvRun {
 };
 // Fits `fold_starts[f]` on all folds but f and predicts fold f; `grid_cause` as in fit_global.
 CvRun cross_validate(const DiagnoseProblem& p, const std::vector<ModelState>& fold_starts, int grid_cause,
-                     const Folds& folds, bool parallel);
+                     const Folds& folds, bool parallel, const GlobalFitOptions& fit = trial_fit_options());
 
 struct GroupGain {
   std::string value;
@@ -85,6 +99,11 @@ struct CandidateTrial {
   double optimism = 0, sd_noise = 0, se_items = 0, threshold = 0;
   int folds_improved = 0, folds = 0;
   bool accepted = false;
+  std::string carried_by;                  // "column=value" when only a subset carries the gain
+  std::vector<std::string> carriers;       // subsets that carry it when they are a minority of their column
+  double subset_gain = 0, subset_threshold = 0;
+  std::vector<std::string> at_bound;       // parameters that end on a bound in most fold fits
+  std::vector<std::string> implausible;    // estimates outside the cause's plausible range
   std::string verdict;
   CvRun cv;
 };
@@ -98,6 +117,7 @@ struct CauseResult {
   CandidateTrial solo;                  // on top of the baseline alone (step 1)
   std::vector<GroupGain> by_report;     // incremental held-out gain per report_by value
   std::vector<GroupGain> solo_by_report;
+  std::vector<std::string> at_bound;    // parameters of the full fit that end on a bound
   std::string words;
 };
 
@@ -112,6 +132,12 @@ struct Diagnosis {
   double rmse_baseline_heldout = 0, rmse_extended_heldout = 0;
   double ve_baseline_heldout = 0, ve_extended_heldout = 0;
   std::vector<GroupGain> by_report, by_fold;
+  // Lack of fit of the baseline and how much of it one residual shape shared by every item
+  // explains (an instrument mismatch rather than tissue when that share is large).
+  double baseline_lack_of_fit = 0;     // baseline full-fit RMSE / noise floor RMSE
+  double common_shape_share = 0;       // fraction of the residual sum of squares
+  std::vector<double> common_shape_nm, common_shape;  // the mean residual (first item's abscissa)
+  bool instrument_mismatch = false;
   std::string verdict;
 };
 

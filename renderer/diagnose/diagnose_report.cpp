@@ -43,6 +43,10 @@ nlohmann::json trial_json(const DiagnoseProblem& p, const CandidateTrial& t, int
           {"folds_improved", t.folds_improved},
           {"folds", t.folds},
           {"accepted", t.accepted},
+          {"carried_by", t.carried_by},
+          {"carriers", t.carriers},
+          {"at_bound", t.at_bound},
+          {"implausible", t.implausible},
           {"verdict", t.verdict}};
 }
 
@@ -103,6 +107,11 @@ nlohmann::json diagnosis_json(const DiagnoseProblem& p, const Diagnosis& d, cons
   j["variance_explained_baseline_heldout"] = d.ve_baseline_heldout;
   j["variance_explained_extended_heldout"] = d.ve_extended_heldout;
   j["verdict"] = d.verdict;
+  j["baseline_lack_of_fit"] = {{"rmse_over_noise_floor", d.baseline_lack_of_fit},
+                               {"common_shape_share", d.common_shape_share},
+                               {"instrument_mismatch", d.instrument_mismatch},
+                               {"common_shape_nm", d.common_shape_nm},
+                               {"common_shape", d.common_shape}};
   j["significant"] = !d.causes.empty();
   nlohmann::json causes = nlohmann::json::array();
   for (auto& c : d.causes) {
@@ -125,6 +134,7 @@ nlohmann::json diagnosis_json(const DiagnoseProblem& p, const Diagnosis& d, cons
     nlohmann::json cj = {{"name", spec.name},
                          {"id", spec.id},
                          {"title", spec.title},
+                         {"instrument", spec.instrument},
                          {"description", c.words},
                          {"step", c.step},
                          {"parameters", par},
@@ -138,7 +148,10 @@ nlohmann::json diagnosis_json(const DiagnoseProblem& p, const Diagnosis& d, cons
                          {"threshold", c.trial.threshold},
                          {"folds_improved", c.trial.folds_improved},
                          {"folds", c.trial.folds},
-                         {"solo_rmse_after_heldout", c.solo.rmse_after}};
+                         {"solo_rmse_after_heldout", c.solo.rmse_after},
+                         {"carried_by", c.trial.carried_by},
+                         {"carriers", c.trial.carriers},
+                         {"at_bound", c.at_bound}};
     if (!d.options.report_by.empty()) {
       cj["by_" + d.options.report_by] = gains_json(c.by_report);
       cj["solo_by_" + d.options.report_by] = gains_json(c.solo_by_report);
@@ -175,10 +188,19 @@ std::string diagnosis_text(const DiagnoseProblem& p, const Diagnosis& d, const R
   o << "noise floor: RMSE " << f3(d.floor.rmse) << " (" << d.floor.source << ")\n\n";
   o << "held-out RMSE: baseline " << f3(d.rmse_baseline_heldout) << ", extended " << f3(d.rmse_extended_heldout)
     << "; variance explained " << f3(100 * d.ve_baseline_heldout) << "% -> " << f3(100 * d.ve_extended_heldout) << "%\n";
+  o << "baseline lack of fit: " << f3(d.baseline_lack_of_fit) << " x the noise floor; one residual shape shared by every item holds "
+    << f3(100 * d.common_shape_share) << "% of the baseline residual" << (d.instrument_mismatch ? " (instrument mismatch)" : "") << "\n";
   o << "verdict: " << d.verdict << "\n";
   for (auto& c : d.causes) {
     const CandidateSpec& s = p.candidates()[c.candidate];
-    o << "\n" << c.step << ". " << s.title << "\n   " << c.words << "\n";
+    o << "\n" << c.step << ". " << s.title << (s.instrument ? " [instrument]" : "") << "\n   " << c.words << "\n";
+    if (!c.trial.carried_by.empty()) o << "   carried by " << c.trial.carried_by << " (" << c.trial.verdict << ")\n";
+    if (!c.trial.carriers.empty()) {
+      o << "   the gain is significant on its own only for:";
+      for (auto& g : c.trial.carriers) o << " " << g;
+      o << "\n";
+    }
+    for (auto& b : c.at_bound) o << "   note: in the full fit " << b << "\n";
     o << "   held-out RMSE " << f3(c.trial.rmse_before) << " -> " << f3(c.trial.rmse_after) << " (gain in MSE " << f3(c.trial.mean_gain)
       << " > threshold " << f3(c.trial.threshold) << "; " << c.trial.folds_improved << "/" << c.trial.folds
       << " groups improve); alone on the baseline: " << f3(c.solo.rmse_before) << " -> " << f3(c.solo.rmse_after) << "\n";
