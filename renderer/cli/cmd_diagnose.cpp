@@ -38,6 +38,10 @@ void register_diagnose_command(CLI::App& app) {
   cmd->add_option("--z", job->z, "significance of the held-out gain against the noise floor (default 3)");
   cmd->add_option("--max-causes", job->max_causes, "stop after this many causes");
   cmd->add_option("--report-by", job->report_by, "break the held-out gains down by this column (overrides the model)");
+  cmd->add_option("--fit-on", job->fit_on,
+                  "select causes and fit them on these rows only (column=a,b), then predict the others with the fitted "
+                  "global parameters fixed (spectra)");
+  cmd->add_option("--predict", job->predict, "rows to predict with --fit-on (column=a,b; default: every other row)");
   cmd->callback([job] { run_diagnose(*job); });
 }
 

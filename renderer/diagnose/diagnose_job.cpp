@@ -3,7 +3,10 @@
 #include <memory>
 
 #include "renderer/core/error.h"
+#include "renderer/core/atomic_file.h"
 #include "renderer/diagnose/camera_model.h"
+#include "renderer/diagnose/cross_subject.h"
+#include "renderer/diagnose/unknown_band.h"
 #include "renderer/diagnose/diagnose_report.h"
 #include "renderer/diagnose/forward_model.h"
 
@@ -29,6 +32,31 @@ DiagnoseOutcome run_diagnose_job(const DiagnoseJob& job) {
   ctx.job = job.to_json();
   ctx.input = job.input;
   ctx.model_file = job.model;
+  std::unique_ptr<SpectraProblem> target;  // --fit-on: the spectra to predict
+  if (!job.fit_on.empty() && kind != InputKind::kSpectra)
+    throw InputError("command line", "--fit-on", "fitting on some rows and predicting others is for spectra");
+  if (!job.predict.empty() && job.fit_on.empty()) throw InputError("command line", "--predict", "needs --fit-on");
+  if (kind == InputKind::kSpectra && !job.fit_on.empty()) {
+    auto comma_to_bar = [](std::string s) { for (char& c : s) if (c == ',') c = '|'; return s; };
+    RowFilter fit = parse_where(comma_to_bar(job.fit_on));
+    std::vector<RowFilter> pred_sel = select;
+    if (!job.predict.empty()) {
+      pred_sel.push_back(parse_where(comma_to_bar(job.predict)));
+    }
+    SpectraSet pred = read_spectra_index(job.input, m.file_column, pred_sel);
+    // Without --predict: every selected row that --fit-on does not take.
+    if (job.predict.empty())
+      std::erase_if(pred.spectra, [&](const MeasuredSpectrum& s) {
+        auto it = s.conditions.find(fit.column);
+        std::string cell = it == s.conditions.end() ? std::string() : it->second;
+        for (auto& v : fit.values)
+          if (cell_matches(cell, v)) return true;
+        return false;
+      });
+    if (pred.spectra.empty()) throw InputError("command line", "--predict", "no rows left to predict");
+    select.push_back(fit);
+    target = std::make_unique<SpectraProblem>(std::move(pred), m.spectra);
+  }
   if (kind == InputKind::kSpectra) {
     SpectraSet data = read_spectra_index(job.input, m.file_column, select);
     ctx.notes = data.notes;
@@ -52,6 +80,29 @@ DiagnoseOutcome run_diagnose_job(const DiagnoseJob& job) {
   if (!job.outdir.empty()) out.files = write_diagnosis_files(*problem, d, ctx, job.outdir);
   out.report = diagnosis_json(*problem, d, ctx);
   out.text = diagnosis_text(*problem, d, ctx);
+  if (kind == InputKind::kSpectra) {
+    UnknownBandReport ub = unknown_band_report(static_cast<const SpectraProblem&>(*problem), d);
+    if (ub.estimate.found) {
+      out.report["unknown_band_estimate"] = unknown_band_json(ub);
+      out.text += unknown_band_text(ub);
+      if (!job.outdir.empty()) {
+        auto f = std::filesystem::path(job.outdir) / "unknown_band.svg";
+        write_file_atomic(f, unknown_band_svg(ub));
+        out.files.push_back(f.string());
+      }
+    }
+  }
+  if (target) {
+    CrossSubjectPrediction c = predict_other_subjects(static_cast<const SpectraProblem&>(*problem), d, *target);
+    c.fit_on = job.fit_on;
+    c.predict = job.predict.empty() ? "every other row" : job.predict;
+    out.report["prediction"] = prediction_json(c);
+    out.text += prediction_text(c);
+    if (!job.outdir.empty()) {
+      write_file_atomic(std::filesystem::path(job.outdir) / "prediction.json", prediction_json(c).dump(2) + "\n");
+      out.files.push_back((std::filesystem::path(job.outdir) / "prediction.json").string());
+    }
+  }
   return out;
 }
 

@@ -56,7 +56,8 @@ void parse_selection(const JsonNode& r, DiagnoseModelFile& m) {
   if (auto g = r.find("replicates")) m.selection.replicate_columns = strings(*g);
   m.selection.report_by = r.string_or("report_by", "");
   if (auto s = r.find("selection")) {
-    s->check_keys({"z", "max_causes", "min_fold_fraction", "min_effect_to_noise"});
+    s->check_keys({"z", "max_causes", "min_fold_fraction", "min_effect_to_noise", "subset_columns"});
+    if (auto sc = s->find("subset_columns")) m.selection.subset_columns = strings(*sc);
     m.selection.z = s->number_or("z", m.selection.z, 0.0, 100.0);
     m.selection.max_causes = s->integer_or("max_causes", m.selection.max_causes, 0, 100);
     m.selection.min_fold_fraction = s->number_or("min_fold_fraction", m.selection.min_fold_fraction, 0.0, 0.99);
@@ -67,7 +68,7 @@ void parse_selection(const JsonNode& r, DiagnoseModelFile& m) {
 void parse_spectra(const JsonNode& r, DiagnoseModelFile& m) {
   r.check_keys({"format", "kind", "description", "select", "file_column", "groups", "replicates", "report_by", "selection",
                 "fit_range_nm", "grid_step_nm", "instrument_fwhm_nm", "fluorophores", "lights", "excitation_filter",
-                "emission_filter", "leak", "candidates"});
+                "emission_filter", "leak", "candidates", "plausible"});
   SpectraModel& s = m.spectra;
   s.base_dir = std::filesystem::path(m.file).parent_path();
   m.file_column = r.string_or("file_column", "csv");
@@ -106,7 +107,8 @@ void parse_spectra(const JsonNode& r, DiagnoseModelFile& m) {
       if (!s.lights[i].leak) E.at(i).fail("\"leak\": \"measured\" needs a \"leak\" spectrum for every light");
   if (auto c = r.find("candidates")) {
     c->check_keys({"blood_absorption", "extra_fluorophore", "wavelength_shift", "bandwidth", "emission_broadening", "stray_light",
-                   "longpass_leak", "longpass_edge"});
+                   "longpass_leak", "longpass_edge", "emission_shift", "fluorophore_shape", "second_band", "unknown_band",
+                   "instrument_response"});
     auto& o = s.candidates;
     std::optional<JsonNode> bo, eo;
     o.blood = candidate_on(*c, "blood_absorption", &bo);
@@ -125,6 +127,23 @@ void parse_spectra(const JsonNode& r, DiagnoseModelFile& m) {
     o.stray = candidate_on(*c, "stray_light");
     o.leak = candidate_on(*c, "longpass_leak");
     o.edge = candidate_on(*c, "longpass_edge");
+    o.emission_shift = candidate_on(*c, "emission_shift");
+    o.fluorophore_shape = candidate_on(*c, "fluorophore_shape");
+    o.second_band = candidate_on(*c, "second_band");
+    o.unknown_band = candidate_on(*c, "unknown_band");
+    o.instrument_response = candidate_on(*c, "instrument_response");
+  }
+  if (auto pl = r.find("plausible")) {
+    // {"stray_light": {"fraction": [0, 0.02]}, "extra_fluorophore:teeth": {"mean_fraction": [0.005, 0.05]}}
+    for (auto& cand : pl->keys()) {
+      JsonNode q = pl->at(cand);
+      if (!q.is_object()) q.fail("expected {quantity: [min, max]}");
+      for (auto& name : q.keys()) {
+        auto v = q.at(name).numbers();
+        if (v.size() != 2 || !(v[1] >= v[0])) q.at(name).fail("expected [min, max] with min <= max");
+        s.candidates.plausible.push_back({cand, name, v[0], v[1]});
+      }
+    }
   }
 }
 
@@ -197,6 +216,8 @@ nlohmann::json DiagnoseJob::to_json() const {
   j["z"] = z ? nlohmann::json(*z) : nlohmann::json(nullptr);
   j["max_causes"] = max_causes ? nlohmann::json(*max_causes) : nlohmann::json(nullptr);
   j["report_by"] = report_by;
+  j["fit_on"] = fit_on;
+  j["predict"] = predict;
   return j;
 }
 

@@ -38,6 +38,8 @@ struct DiagnoseJob {
   std::optional<double> z;                 // overrides the selection's z
   std::optional<int> max_causes;
   std::string report_by;                   // overrides the model's report_by column
+  std::string fit_on;                      // "column=a,b": select and fit on these rows only...
+  std::string predict;                     // ...and predict these ("" = every other row)
   nlohmann::json to_json() const;
 };
 
