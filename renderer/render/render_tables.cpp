@@ -5,6 +5,7 @@
 
 #include "renderer/camera/camera_description.h"
 #include "renderer/camera/expected_signal.h"
+#include "renderer/render/stack_response.h"
 #include "renderer/spectral/units.h"
 
 namespace ofl {
@@ -74,6 +75,11 @@ RenderTables::RenderTables(const Scene& sc, const std::vector<double>& importanc
       }
     }
     t.stack = build_stack_tables(m.stack, sc.eems, light_shape, fluo);
+    if (t.stack.enabled && m.stack.transport == StackTransport::kTable && stack_response_unsupported(t.stack, t).empty()) {
+      StackResponseOptions o;
+      if (m.stack.table_photons > 0) o.photons = m.stack.table_photons;
+      t.stack.response = build_stack_response(t.stack, t, n, light_shape, o);
+    }
     materials.push_back(std::move(t));
   }
 
