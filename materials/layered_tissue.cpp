@@ -11,7 +11,7 @@
 //   "transport": "table" | "walk"   table (default): the stack's response tabulated once at scene load
 //                                    (renderer/render/stack_response.h); walk: the random walk at every
 //                                    shading point (the reference)
-//   "table_photons": 6000            walks per incidence cosine and wavelength group filling the table
+//   "table_photons": 2000            walks per incidence cosine and wavelength group filling the table
 //   "bottom": "semi_infinite" | {"type": "open", "ior": 1.0}
 //           | {"type": "base", "reflectance": <spectrum>, "fluorophores": [<surface fluorophore>]}
 // A layer:

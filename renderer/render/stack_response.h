@@ -36,7 +36,7 @@ namespace ofl {
 
 struct StackResponseOptions {
   int nodes = 12;         // incidence cosines
-  int photons = 6000;     // walks per node and wavelength group
+  int photons = 2000;     // walks per node and wavelength group
   // Average the elastic part with its transpose. Off by default: the rough top's lossless
   // resampling (dielectric_interface.h) divides by the valid fraction of the incident direction,
   // which is not reciprocal, and the walk's convention (viewer = launch direction) is kept.
