@@ -163,6 +163,24 @@ int main(int argc, char** argv) {
     for (double nm : {450.0, 550.0, 630.0}) el_bins.push_back(g.index_of(nm));
     while (int(el_bins.size()) < kLanes) el_bins.push_back(el_bins.back());
     std::printf("%s: table %lld walks in %.2f s\n", name.c_str(), r.walks, r.build_seconds);
+    // LED light entering through a rough top: the forward sampling the table uses (scatter() from
+    // outside) against the walk's next-event connection (transmit(), the other side's BTDF).
+    if (!table->mt().stack.top.smooth())
+      for (double mu : {0.9, 0.7, 0.5, 0.3}) {
+        const DielectricInterface& top = table->mt().stack.top;
+        Rng rng(4, uint64_t(mu * 100));
+        const glm::dvec3 down = -direction(mu, 0.0);
+        double fwd = 0, nee = 0;
+        const int m = 200000;
+        for (int j = 0; j < m; ++j) {
+          InterfaceEvent e = top.scatter(down, rng);
+          if (e.transmitted) fwd += e.weight;
+          InterfaceEvent t = top.transmit(down, rng.next_double(), rng.next_double());
+          if (t.weight > 0 && t.dir.z < 0) nee += t.weight;
+        }
+        std::printf("  top transmittance at mu %.1f: scatter() %.4f, transmit() %.4f (ratio %.3f)\n", mu, fwd / m, nee / m,
+                    fwd / nee);
+      }
     for (auto [mu_o, mu_i] : dirs) {
       const StackResponse::Weights a = r.weights(mu_o), b = r.weights(mu_i);
       double tf = 0;

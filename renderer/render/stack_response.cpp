@@ -86,6 +86,20 @@ double tent_norm(const StackResponse& r, int k) {
   return 2.0 * kPi * s / steps;
 }
 
+// A launch cosine for node k with density proportional to its tent weight times mu (the weight the
+// exits are deposited with): both directions of the table are then the same projection, so the
+// table of a reciprocal stack is symmetric, near grazing too. Rejection from the tent's support.
+double launch_cosine(const StackResponse& r, int k, Rng& rng) {
+  const int N = r.nodes;
+  const double lo = k == 0 ? 0.0 : node_mu(k - 1, N), hi = k == N - 1 ? 1.0 : node_mu(k + 1, N);
+  for (;;) {
+    double mu = lo + (hi - lo) * rng.next_double();
+    StackResponse::Weights w = r.weights(mu);
+    double phi = (w.k[0] == k ? w.w[0] : 0.0) + (w.k[1] == k && w.k[1] != w.k[0] ? w.w[1] : 0.0);
+    if (rng.next_double() * hi < phi * mu) return mu;
+  }
+}
+
 // Raw Monte Carlo sums, per node: fluence tallies [node][wl][bin] and exit deposits [node][exit node][wl].
 struct WalkSums {
   std::vector<double> fluence, exits;
@@ -100,11 +114,11 @@ void run_job(const StackTables& st, const MaterialTables& mt, int n, const Depth
   FluenceTally visitor{bins, tally.data()};
   StackWalker walker(st, mt, n, WalkMode::kImportance);
   const StackPointFactors fac;
-  const double mu = node_mu(node, N);
-  const glm::dvec3 down(-std::sqrt(1.0 - mu * mu), 0.0, -mu);
   const uint64_t job = uint64_t(node) * 4096 + uint64_t(group);
   for (int p = 0; p < opt.photons; ++p) {
     Rng rng(opt.seed, Rng::stream_for(job, uint64_t(p)));
+    const double mu = launch_cosine(r, node, rng);
+    const glm::dvec3 down(-std::sqrt(1.0 - mu * mu), 0.0, -mu);
     InterfaceEvent e = st.top.scatter(down, rng);
     if (e.weight <= 0 || !e.transmitted) continue;  // the top's specular reflection: closed form
     WalkLanes lanes;

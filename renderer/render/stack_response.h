@@ -6,8 +6,10 @@
 //
 // How it is filled. For each of `nodes` incidence cosines mu_k = (k + 0.5) / nodes and each group
 // of eight adjacent wavelength bins, `photons` walks enter the stack through the top interface
-// from direction mu_k (photon mode, no re-radiation; light reflected by the top is the closed-form
-// specular lobe and is not counted). Each walk gives
+// (photon mode, no re-radiation; light reflected by the top is the closed-form specular lobe and is
+// not counted) from cosines drawn around mu_k in proportion to the node's tent weight times mu, the
+// same weight the exits are deposited with, so that the elastic table of a reciprocal stack is
+// symmetric (a Galerkin projection on the tents). Each walk gives
 // - the elastic part: where it leaves through the top, its weight spread over the two nearest
 //   cosine nodes (linear "tent" weights, the same ones evaluation interpolates with);
 // - the fluence: at every collision each lane's weight (a track-length estimate) is added to the
