@@ -10,6 +10,27 @@
 
 namespace ofl {
 
+namespace {
+
+// Layered materials with transport "table": their response, for the bins camera lanes can reach
+// (up to the last bin the film samples; re-radiation only moves a lane to shorter wavelengths).
+void build_stack_responses(const Scene& sc, RenderTables& rt) {
+  int used = 0;
+  for (int i = 0; i < rt.n; ++i)
+    if (rt.wavelength_pdf.pmf[i] > 0) used = i + 1;
+  for (size_t k = 0; k < rt.materials.size(); ++k) {
+    MaterialTables& t = rt.materials[k];
+    const LayerStack& stack = sc.materials[k].stack;
+    if (!t.stack.enabled || stack.transport != StackTransport::kTable || !stack_response_unsupported(t.stack, t).empty()) continue;
+    StackResponseOptions o;
+    if (stack.table_photons > 0) o.photons = stack.table_photons;
+    o.used_bins = used;
+    t.stack.response = build_stack_response(t.stack, t, rt.n, rt.light_shape, o);
+  }
+}
+
+}  // namespace
+
 RenderTables::RenderTables(const Scene& sc, const std::vector<double>& importance) : n(sc.grid().size()), grid(sc.grid()) {
   const double step = grid.step_nm;
   const bool fluo = sc.integrator.fluorescence;
@@ -75,11 +96,6 @@ RenderTables::RenderTables(const Scene& sc, const std::vector<double>& importanc
       }
     }
     t.stack = build_stack_tables(m.stack, sc.eems, light_shape, fluo);
-    if (t.stack.enabled && m.stack.transport == StackTransport::kTable && stack_response_unsupported(t.stack, t).empty()) {
-      StackResponseOptions o;
-      if (m.stack.table_photons > 0) o.photons = m.stack.table_photons;
-      t.stack.response = build_stack_response(t.stack, t, n, light_shape, o);
-    }
     materials.push_back(std::move(t));
   }
 
@@ -115,6 +131,7 @@ RenderTables::RenderTables(const Scene& sc, const std::vector<double>& importanc
   film_scale.assign(n, 0.0);
   for (int i = 0; i < n; ++i)
     if (wavelength_pdf.pmf[i] > 0) film_scale[i] = photon_energy_J(grid.wavelength(i)) / wavelength_pdf.pmf[i];
+  build_stack_responses(sc, *this);
 }
 
 }  // namespace ofl

@@ -325,7 +325,8 @@ std::shared_ptr<const StackResponse> build_stack_response(const StackTables& st,
   r->nodes = opt.nodes;
   r->n = n;
   const DepthBins bins(st);
-  const int B = bins.size(), N = opt.nodes, groups = (n + kWalkLanes - 1) / kWalkLanes;
+  const int used = opt.used_bins > 0 ? std::min(opt.used_bins, n) : n;
+  const int B = bins.size(), N = opt.nodes, groups = (used + kWalkLanes - 1) / kWalkLanes;
   WalkSums sums;
   sums.fluence.assign(size_t(N) * n * B, 0.0);
   sums.exits.assign(size_t(N) * N * n, 0.0);

@@ -44,6 +44,7 @@ struct StackResponseOptions {
   // which is not reciprocal, and the walk's convention (viewer = launch direction) is kept.
   bool symmetrize = false;
   uint64_t seed = 0x5354414BULL;
+  int used_bins = 0;      // bins from this one up are not walked (the film never samples them); 0 = all
 };
 
 struct StackResponse {
