@@ -9,8 +9,6 @@
 #include "renderer/render/stack_walk.h"
 
 namespace ofl {
-struct DbgWalk { double maxv=0; int kind=0; double w=0; int coll=0; int wl=0; double x=0; int layer=0; double depth=0; };
-thread_local DbgWalk g_dbg;
 namespace {
 
 // The direction light from the LED travels in each layer, and what it loses on the way there.
