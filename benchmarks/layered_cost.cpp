@@ -2,12 +2,16 @@
 // benchmarks/scenes/tongue_mouth_fluorescent.json (tongue_mouth.glb under four 405 nm LEDs) with the
 // tongue and mouth materials replaced by
 //   surface: {"type": "tissue", "preset": "tongue" | "mucosa"}           (coated albedo matrix)
-//   layered: {"type": "layered_tissue", "preset": "dorsal_tongue" | "buccal_mucosa"}
+//   table:   {"type": "layered_tissue", "preset": "dorsal_tongue" | "buccal_mucosa"}   (transport "table")
+//   walk:    the same with "transport": "walk" (the random walk at every vertex, the reference)
 // at equal samples per pixel (time ratio) and at equal noise: the relative noise of each image is
 // estimated from its even and odd samples (RenderStats::relative_noise), and the time to reach a
 // common noise level is time x (noise / target)^2, so the ratio at equal noise is
-// (t_layered noise_layered^2) / (t_surface noise_surface^2). Best of --reps alternating runs.
-//   usage: layered_cost [--spp N] [--width W] [--reps N] [--threads N] [--json]
+// (t_layered noise_layered^2) / (t_surface noise_surface^2). The table's one-off build (scene load,
+// RenderStats::build_seconds less the surface scene's) is reported separately and also added once
+// to the table's time to the surface image's noise. Best of --reps alternating runs; --walk-spp
+// sets the walk's samples (0 = skip the walk, which takes minutes).
+//   usage: layered_cost [--spp N] [--walk-spp N] [--width W] [--reps N] [--threads N] [--json]
 #include <tbb/global_control.h>
 
 #include <algorithm>
@@ -23,15 +27,18 @@ using namespace ofl;
 
 namespace {
 
-Scene variant(const std::string& file, bool layered, int spp, int width) {
+enum class Variant { kSurface, kTable, kWalk };
+
+Scene variant(const std::string& file, Variant v, int spp, int width) {
   JsonFile f = JsonFile::load(file);
   nlohmann::json j = f.doc();
-  if (layered) {
-    j["materials"]["tongue"] = {{"type", "layered_tissue"}, {"preset", "dorsal_tongue"}};
-    j["materials"]["mouth"] = {{"type", "layered_tissue"}, {"preset", "buccal_mucosa"}};
-  } else {
+  if (v == Variant::kSurface) {
     j["materials"]["tongue"] = {{"type", "tissue"}, {"preset", "tongue"}};
     j["materials"]["mouth"] = {{"type", "tissue"}, {"preset", "mucosa"}};
+  } else {
+    const char* transport = v == Variant::kTable ? "table" : "walk";
+    j["materials"]["tongue"] = {{"type", "layered_tissue"}, {"preset", "dorsal_tongue"}, {"transport", transport}};
+    j["materials"]["mouth"] = {{"type", "layered_tissue"}, {"preset", "buccal_mucosa"}, {"transport", transport}};
   }
   j["integrator"]["spp"] = spp;
   if (width > 0) {  // same field of view, fewer pixels
@@ -42,14 +49,39 @@ Scene variant(const std::string& file, bool layered, int spp, int width) {
   return load_scene(JsonFile::from(j, file));
 }
 
+RenderStats best_of(const Scene& sc, int reps) {
+  RenderOptions o;
+  o.progress = false;
+  o.aovs = false;
+  RenderStats best;
+  best.seconds = 1e30;
+  for (int rep = 0; rep < reps; ++rep) {
+    RenderStats s = render(sc, o).stats;
+    if (s.seconds < best.seconds) best = s;
+  }
+  return best;
+}
+
+// Time to reach the surface image's noise (one-off build included when given).
+double to_equal_noise(const RenderStats& s, const RenderStats& surface, double build = 0) {
+  double r = s.relative_noise / surface.relative_noise;
+  return build + s.seconds * r * r;
+}
+
+nlohmann::json stats_json(const RenderStats& s, int spp) {
+  return {{"spp", spp}, {"seconds", s.seconds}, {"build_seconds", s.build_seconds}, {"relative_noise", s.relative_noise},
+          {"camera_samples_per_second", s.samples_per_second()}};
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
-  int spp = 32, threads = 2, width = 0, reps = 2;
+  int spp = 32, walk_spp = 8, threads = 2, width = 0, reps = 2;
   bool json = false;
   for (int i = 1; i < argc; ++i) {
     std::string a = argv[i];
     if (a == "--spp" && i + 1 < argc) spp = std::stoi(argv[++i]);
+    else if (a == "--walk-spp" && i + 1 < argc) walk_spp = std::stoi(argv[++i]);
     else if (a == "--threads" && i + 1 < argc) threads = std::stoi(argv[++i]);
     else if (a == "--width" && i + 1 < argc) width = std::stoi(argv[++i]);
     else if (a == "--reps" && i + 1 < argc) reps = std::stoi(argv[++i]);
@@ -57,33 +89,38 @@ int main(int argc, char** argv) {
   }
   tbb::global_control gc(tbb::global_control::max_allowed_parallelism, threads);
   const std::string file = std::string(OFL_SOURCE_DIR) + "/benchmarks/scenes/tongue_mouth_fluorescent.json";
-  Scene surface = variant(file, false, spp, width), layered = variant(file, true, spp, width);
-  RenderOptions o;
-  o.progress = false;
-  o.aovs = false;
-  RenderStats best_s, best_l;
-  best_s.seconds = best_l.seconds = 1e30;
-  for (int rep = 0; rep < reps; ++rep) {
-    RenderStats s = render(surface, o).stats, l = render(layered, o).stats;
-    if (s.seconds < best_s.seconds) best_s = s;
-    if (l.seconds < best_l.seconds) best_l = l;
+  RenderStats s = best_of(variant(file, Variant::kSurface, spp, width), reps);
+  RenderStats t = best_of(variant(file, Variant::kTable, spp, width), reps);
+  const double build = std::max(0.0, t.build_seconds - s.build_seconds);
+  nlohmann::json out = {{"scene", file}, {"threads", threads}, {"width", width},
+                        {"surface", stats_json(s, spp)}, {"table", stats_json(t, spp)},
+                        {"table_build_seconds", build},
+                        {"table_time_ratio_equal_samples", t.seconds / s.seconds},
+                        {"table_time_ratio_equal_noise", to_equal_noise(t, s) / s.seconds},
+                        {"table_time_ratio_equal_noise_with_build", to_equal_noise(t, s, build) / s.seconds}};
+  RenderStats w;
+  if (walk_spp > 0) {
+    w = best_of(variant(file, Variant::kWalk, walk_spp, width), 1);
+    // The surface render at the walk's samples, for the equal-samples ratio.
+    RenderStats s_w = walk_spp == spp ? s : best_of(variant(file, Variant::kSurface, walk_spp, width), reps);
+    out["walk"] = stats_json(w, walk_spp);
+    out["walk_time_ratio_equal_samples"] = w.seconds / s_w.seconds;
+    out["walk_time_ratio_equal_noise"] = to_equal_noise(w, s_w) / s_w.seconds;
   }
-  double time_ratio = best_l.seconds / best_s.seconds;
-  double equal_noise = (best_l.seconds * best_l.relative_noise * best_l.relative_noise) /
-                       (best_s.seconds * best_s.relative_noise * best_s.relative_noise);
-  nlohmann::json out = {{"scene", file}, {"spp", spp}, {"threads", threads}, {"width", width},
-                        {"surface", {{"seconds", best_s.seconds}, {"relative_noise", best_s.relative_noise},
-                                     {"camera_samples_per_second", best_s.samples_per_second()}}},
-                        {"layered", {{"seconds", best_l.seconds}, {"relative_noise", best_l.relative_noise},
-                                     {"camera_samples_per_second", best_l.samples_per_second()}}},
-                        {"time_ratio_equal_samples", time_ratio}, {"time_ratio_equal_noise", equal_noise}};
   if (json) {
     std::printf("%s\n", out.dump(2).c_str());
-  } else {
-    std::printf("tongue_mouth_fluorescent, %d spp, %d threads\n", spp, threads);
-    std::printf("  surface tissue: %.2f s, relative noise %.4f\n", best_s.seconds, best_s.relative_noise);
-    std::printf("  layered tissue: %.2f s, relative noise %.4f\n", best_l.seconds, best_l.relative_noise);
-    std::printf("  time ratio at equal samples %.2fx, at equal noise %.2fx (target <= 3x)\n", time_ratio, equal_noise);
+    return 0;
   }
+  std::printf("tongue_mouth_fluorescent, %d threads\n", threads);
+  std::printf("  surface tissue: %d spp, %.2f s, relative noise %.4f\n", spp, s.seconds, s.relative_noise);
+  std::printf("  layered, table: %d spp, %.2f s, relative noise %.4f; table build %.2f s (once per scene load)\n", spp,
+              t.seconds, t.relative_noise, build);
+  std::printf("    time ratio at equal samples %.2fx, at equal noise %.2fx, at equal noise with the build %.2fx (target <= 3x)\n",
+              double(out["table_time_ratio_equal_samples"]), double(out["table_time_ratio_equal_noise"]),
+              double(out["table_time_ratio_equal_noise_with_build"]));
+  if (walk_spp > 0)
+    std::printf("  layered, walk:  %d spp, %.2f s, relative noise %.4f; time ratio at equal samples %.2fx, at equal noise %.2fx\n",
+                walk_spp, w.seconds, w.relative_noise, double(out["walk_time_ratio_equal_samples"]),
+                double(out["walk_time_ratio_equal_noise"]));
   return 0;
 }

@@ -32,10 +32,10 @@ PY
   echo
   "$build/layered_spread" --photons 100000
   echo
-  echo "### Cost against the surface tissue: \`$build/layered_cost --spp 8 --width 128 --reps 1 --threads 2\`"
+  echo "### Cost against the surface tissue: \`$build/layered_cost --spp 32 --walk-spp 8 --width 128 --reps 1 --threads 2\`"
   echo
   echo '```'
-  "$build/layered_cost" --spp 8 --width 128 --reps 1 --threads 2
+  "$build/layered_cost" --spp 32 --walk-spp 8 --width 128 --reps 1 --threads 2
   echo '```'
 } > "$tmp/out.md"
 mv "$tmp/out.md" "$out"

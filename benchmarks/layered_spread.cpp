@@ -23,7 +23,7 @@ McmlInput preset_slab(const std::string& preset, double nm) {
   nlohmann::json j = {{"format", "oralfluor-scene"}, {"version", 1},
                       {"integrator", {{"wavelengths", {{"min_nm", 350}, {"max_nm", 750}, {"step_nm", 5}}}}},
                       {"camera", {{"position", {0, 0, 1}}, {"look_at", {0, 0, 0}}, {"up", {0, 1, 0}}, {"fov_deg", 10}, {"resolution", {4, 4}}}},
-                      {"materials", {{"m", {{"type", "layered_tissue"}, {"preset", preset}}}}},
+                      {"materials", {{"m", {{"type", "layered_tissue"}, {"preset", preset}, {"transport", "walk"}}}}},
                       {"geometry", {{{"type", "quad"}, {"center", {0, 0, 0}}, {"u", {1, 0, 0}}, {"v", {0, 1, 0}}, {"material", "m"}}}}};
   Scene sc = load_scene(JsonFile::from(j, preset + ".json"));
   RenderTables t(sc);

@@ -43,6 +43,12 @@ struct TissueLayer {
   bool semi_infinite() const { return thickness_mm == std::numeric_limits<double>::infinity(); }
 };
 
+// How light is carried inside the stack at render time (docs/layered-tissue.md, "Cost").
+enum class StackTransport {
+  kTable,  // a response table filled once by the walk at scene load (renderer/render/stack_response.h)
+  kWalk    // the random walk at every shading point (the reference)
+};
+
 // What lies under the last layer.
 enum class StackBottom {
   kSemiInfinite,  // the last layer goes on forever
@@ -57,6 +63,8 @@ struct LayerStack {
   std::vector<TissueLayer> layers;  // top to bottom; a wet coating is the first, clear layer
   StackBottom bottom = StackBottom::kSemiInfinite;
   double below_ior = 1.0;         // kOpen only
+  StackTransport transport = StackTransport::kTable;
+  int table_photons = 0;          // walks per incidence cosine and wavelength group; 0 = the default
 };
 
 }  // namespace ofl

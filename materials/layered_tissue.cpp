@@ -8,6 +8,10 @@
 //                                    (GGX) dielectric interface; false or absent = smooth bare top
 //   "ambient_ior": 1.0               medium above the tissue
 //   "layers": [<layer>, ...]         top to bottom
+//   "transport": "table" | "walk"   table (default): the stack's response tabulated once at scene load
+//                                    (renderer/render/stack_response.h); walk: the random walk at every
+//                                    shading point (the reference)
+//   "table_photons": 2000            walks per incidence cosine and wavelength group filling the table
 //   "bottom": "semi_infinite" | {"type": "open", "ior": 1.0}
 //           | {"type": "base", "reflectance": <spectrum>, "fluorophores": [<surface fluorophore>]}
 // A layer:
@@ -246,9 +250,16 @@ nlohmann::json merged_document(const JsonNode& n) {
 }
 
 void parse_stack(const JsonNode& m, Material& out, MaterialContext& ctx) {
-  m.check_keys({"type", "coating", "ambient_ior", "layers", "bottom"});
+  m.check_keys({"type", "coating", "ambient_ior", "layers", "bottom", "transport", "table_photons"});
   LayerStack& st = out.stack;
   st.enabled = true;
+  if (auto t = m.find("transport")) {
+    std::string v = t->string();
+    if (v == "table") st.transport = StackTransport::kTable;
+    else if (v == "walk") st.transport = StackTransport::kWalk;
+    else t->fail("expected \"table\" or \"walk\"");
+  }
+  if (auto t = m.find("table_photons")) st.table_photons = int(t->number(100.0, 1e7));
   st.ambient_ior = m.number_or("ambient_ior", 1.0, 1.0, 3.0);
   if (auto c = m.find("coating"); c && !(c->raw().is_boolean() && !c->boolean())) {
     if (c->raw().is_boolean()) c->fail("give the coating as an object {\"ior\", \"roughness\", \"thickness_mm\"} or false");

@@ -191,6 +191,7 @@ std::vector<BenchCaseInfo> bench_cases() {
       {"reradiation_only", "pure re-radiation (R = 0) under a 420-430 nm LED: exactly no radiance at or below the lowest excitation wavelength, and the closed form above it", 256},
       {"layered_thin_limit", "the fluorescent patch as the opaque base of a layered stack whose one layer is 1 nm thick: the surface material's closed form through the layered walk", 256},
       {"layered_fluorescent_slab", "a 0.3 mm non-scattering fluorescent layer (FAD) rendered under a point LED: per-pixel exponential attenuation in and out", 256},
+      {"layered_fluorescent_slab_table", "the same slab with transport \"table\": the tabulated stack response against the per-pixel closed form", 256},
   };
 }
 
@@ -206,6 +207,7 @@ BenchResult run_bench_case(const std::string& name, const BenchOptions& o) {
   if (name == "reradiation_only") return reradiation_only(o);
   if (name == "layered_thin_limit") return layered_thin_limit(o);
   if (name == "layered_fluorescent_slab") return layered_fluorescent_slab(o);
+  if (name == "layered_fluorescent_slab_table") return layered_fluorescent_slab_table(o);
   std::string names;
   for (auto& c : bench_cases()) names += (names.empty() ? "" : ", ") + c.name;
   throw InputError("", "case \"" + name + "\"", "unknown bench case (have: " + names + ")");

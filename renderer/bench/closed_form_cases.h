@@ -60,6 +60,7 @@ BenchResult fluorescent_patch(const BenchOptions& o, bool narrow_385);
 // Layered tissue (fluorescence_cases.cpp, layered_cases.cpp).
 BenchResult layered_thin_limit(const BenchOptions& o);
 BenchResult layered_fluorescent_slab(const BenchOptions& o);
+BenchResult layered_fluorescent_slab_table(const BenchOptions& o);
 BenchResult fluorescent_sphere(const BenchOptions& o);
 BenchResult reradiation_only(const BenchOptions& o);
 BenchResult fluorescent_disk_led(const BenchOptions& o);

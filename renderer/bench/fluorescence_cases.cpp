@@ -117,7 +117,7 @@ BenchResult fluorescent_patch(const BenchOptions& o, bool narrow) {
 BenchResult layered_thin_limit(const BenchOptions& o) {
   json base = fluorescent_patch_material();
   base["type"] = "base";
-  json m = {{"type", "layered_tissue"},
+  json m = {{"type", "layered_tissue"}, {"transport", "walk"},
             {"layers", {{{"name", "film"}, {"thickness_mm", 1e-6}, {"ior", 1.0},
                          {"scattering", {{"g", 0.5}, {"mus_per_mm", 5.0}}}, {"absorption", {{"baseline_per_mm", 2.0}}}}}},
             {"bottom", base}};

@@ -5,11 +5,10 @@
 
 #include "renderer/render/layered_bsdf.h"
 
+#include "renderer/render/stack_response.h"
 #include "renderer/render/stack_walk.h"
 
 namespace ofl {
-struct DbgWalk { double maxv=0; int kind=0; double w=0; int coll=0; int wl=0; double x=0; int layer=0; double depth=0; };
-thread_local DbgWalk g_dbg;
 namespace {
 
 // The direction light from the LED travels in each layer, and what it loses on the way there.
@@ -386,6 +385,102 @@ LayeredScatter layered_scatter(const MaterialTables& mt, const StackPointFactors
   if (wi.z <= 0) return c;
   c.ok = true;
   c.wi = wi;
+  return c;
+}
+
+namespace {
+
+// Where the table-mode continuation comes from: the top's specular lobe with probability p_top
+// (rough tops), the Fresnel mirror with probability F (smooth tops), a cosine lobe otherwise.
+struct TableLobes {
+  const StackTables& st;
+  glm::dvec3 wo;
+  double p_top = 0;     // rough: probability of sampling the top lobe
+  double f_mirror = 0;  // smooth: Fresnel reflectance toward the mirror direction
+  TableLobes(const StackTables& s, const glm::dvec3& w) : st(s), wo(w) {
+    if (st.top.smooth()) f_mirror = fresnel_dielectric(wo.z, st.layers[0].ior / st.ambient_ior);
+    else p_top = std::clamp(st.top_lobe.specular_albedo(wo.z), 0.05, 0.95);
+  }
+  // Solid-angle density of a non-mirror direction.
+  double pdf(const glm::dvec3& wi) const {
+    double pd = cosine_hemisphere_pdf(wi.z);
+    if (st.top.smooth()) return (1.0 - f_mirror) * pd;
+    return p_top * st.top_lobe.pdf(wo, wi) + (1.0 - p_top) * pd;
+  }
+};
+
+void table_light_sample(const MaterialTables& mt, const TableLobes& lobes, const LightSample& ls,
+                        const std::vector<std::vector<float>>& light_shapes, PathLanes& p) {
+  const StackTables& st = mt.stack;
+  const StackResponse& r = *st.response;
+  const glm::dvec3& wo = lobes.wo;
+  const double mis = ls.pdf_solid > 0 ? power_heuristic(ls.pdf_solid, lobes.pdf(ls.wi)) : 1.0;
+  const double fs = st.top.smooth() ? 0.0 : st.top.reflection(wo, ls.wi);
+  const StackResponse::Weights a = r.weights(wo.z), b = r.weights(ls.wi.z);
+  const float* shape = light_shapes[ls.group].data();
+  for (int k = 0; k < kLanes; ++k) {
+    if (p.beta[k] == 0) continue;
+    const int em = p.wl[k];
+    double reflected = p.beta[k] * (fs + r.elastic_at(a, b, em)) * shape[em] * ls.g * mis;
+    double fluo = r.direct.empty() ? 0.0 : p.beta[k] * r.direct_at(ls.group, a, b, em) * ls.g;
+    p.L[k] += float(reflected + fluo);
+    p.Lf[k] += float((p.fl[k] ? reflected : 0.0) + fluo);
+  }
+}
+
+}  // namespace
+
+LayeredScatter layered_table_scatter(const MaterialTables& mt, const glm::dvec3& wo, const LightSample& ls,
+                                     const std::vector<std::vector<float>>& light_shapes, PathLanes& p, Rng& rng) {
+  const StackTables& st = mt.stack;
+  const StackResponse& r = *st.response;
+  const TableLobes lobes(st, wo);
+  if (ls.valid) table_light_sample(mt, lobes, ls, light_shapes, p);
+
+  LayeredScatter c;
+  // The mirror of a smooth top: weight 1 (probability F, value F).
+  if (st.top.smooth() && rng.next_double() < lobes.f_mirror) {
+    c.ok = true;
+    c.reflected = true;
+    c.wi = glm::dvec3(-wo.x, -wo.y, wo.z);
+    c.pdf = 0;
+    for (int k = 0; k < kLanes; ++k) p.rerad_prev[k] = false;
+    return c;
+  }
+  glm::dvec3 wi;
+  if (!st.top.smooth() && rng.next_double() < lobes.p_top) {
+    wi = st.top_lobe.sample(wo, rng.next_double(), rng.next_double());
+    c.reflected = true;
+  } else {
+    wi = sample_cosine_hemisphere(rng.next_double(), rng.next_double());
+  }
+  if (wi.z <= 0) return c;
+  const double pdf = lobes.pdf(wi);
+  if (!(pdf > 0)) return c;
+  const double fs = st.top.smooth() ? 0.0 : st.top.reflection(wo, wi);
+  const StackResponse::Weights a = r.weights(wo.z), b = r.weights(wi.z);
+  const double geo = wi.z / pdf;
+  for (int k = 0; k < kLanes; ++k) {
+    if (p.beta[k] == 0) continue;
+    const int em = p.wl[k];
+    const double el = r.elastic_at(a, b, em);
+    const double fl = r.fluor.empty() ? 0.0 : r.fluor_sum_at(a, b, em);
+    const double tot = fs + el + fl;
+    if (!(tot > 0)) {
+      p.beta[k] = 0;
+      continue;
+    }
+    p.rerad_prev[k] = false;
+    if (rng.next_double() * tot >= fs + el) {
+      p.wl[k] = r.sample_excitation(a, b, em, rng.next_double(), rng.next_float());
+      p.fl[k] = true;
+      p.rerad_prev[k] = true;  // next-event estimation summed the LED's direct excitation
+    }
+    p.beta[k] = float(p.beta[k] * tot * geo);
+  }
+  c.ok = true;
+  c.wi = wi;
+  c.pdf = pdf;
   return c;
 }
 

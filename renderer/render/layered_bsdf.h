@@ -1,9 +1,10 @@
 // Layered tissue at a path vertex: one stochastic evaluation and sample of the stack's BSDF
 // (materials/layered.h; the walk is renderer/render/stack_walk.h; docs/layered-tissue.md).
 //
-// The stack's BSDF is never tabulated: it is evaluated and sampled by one position-free random walk
+// With transport "walk" the stack's BSDF is evaluated and sampled by one position-free random walk
 // per vertex, as pbrt-v4's LayeredBxDF does, extended to several layers, wavelength lanes and
-// volume fluorescence:
+// volume fluorescence (with transport "table", layered_table_scatter reads a table the same walk
+// filled at scene load):
 // 1. The caller's next-event sample (an LED point, already unoccluded) gives the light direction.
 // 2. The top interface's specular reflection toward it is evaluated in closed form (GGX).
 // 3. The top interface reflects or refracts the camera path (Fresnel, one sampled microfacet when
@@ -46,6 +47,14 @@ struct LayeredScatter {
 LayeredScatter layered_scatter(const MaterialTables& mt, const StackPointFactors& fac, const glm::dvec3& wo,
                                const LightSample& ls, const std::vector<std::vector<float>>& light_shapes, int n,
                                PathLanes& p, Rng& rng);
+
+// The same with the stack's tabulated response (mt.stack.response, renderer/render/stack_response.h)
+// instead of a walk: the top's specular lobe in closed form as above, the rest interpolated in the
+// table; next-event estimation with MIS for reflected light and the deterministic sum over the
+// LED's bins for fluorescence, as surface materials do; the continuation from the mixture of the
+// top lobe and a cosine lobe (smooth tops: the Fresnel mirror or the cosine lobe).
+LayeredScatter layered_table_scatter(const MaterialTables& mt, const glm::dvec3& wo, const LightSample& ls,
+                                     const std::vector<std::vector<float>>& light_shapes, PathLanes& p, Rng& rng);
 
 // The texture factors of the stack's fluorophores at a surface point.
 StackPointFactors stack_point_factors(const StackTables& st, const std::vector<Texture>& textures, const glm::vec2& uv);

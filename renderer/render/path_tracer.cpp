@@ -218,9 +218,14 @@ PathTracer::Continuation PathTracer::surface_vertex(const SurfacePoint& sp, cons
 PathTracer::Continuation PathTracer::layered_vertex(const SurfacePoint& sp, const Frame& frame, const glm::dvec3& wo,
                                                     const MaterialTables& mt, PathLanes& p, Rng& rng, RayCounts& counts,
                                                     RayLog* log) const {
-  const StackPointFactors fac = stack_point_factors(mt.stack, scene_.textures, sp.uv);
   LightSample ls = sample_light(sp, frame, rng, counts, log);
-  LayeredScatter s = layered_scatter(mt, fac, wo, ls, t_.light_shape, t_.n, p, rng);
+  LayeredScatter s;
+  if (mt.stack.response) {
+    s = layered_table_scatter(mt, wo, ls, t_.light_shape, p, rng);
+  } else {
+    const StackPointFactors fac = stack_point_factors(mt.stack, scene_.textures, sp.uv);
+    s = layered_scatter(mt, fac, wo, ls, t_.light_shape, t_.n, p, rng);
+  }
   Continuation c;
   if (!s.ok) return c;
   glm::dvec3 wi_w = frame.to_world(s.wi);

@@ -5,9 +5,31 @@
 
 #include "renderer/camera/camera_description.h"
 #include "renderer/camera/expected_signal.h"
+#include "renderer/render/stack_response.h"
 #include "renderer/spectral/units.h"
 
 namespace ofl {
+
+namespace {
+
+// Layered materials with transport "table": their response, for the bins camera lanes can reach
+// (up to the last bin the film samples; re-radiation only moves a lane to shorter wavelengths).
+void build_stack_responses(const Scene& sc, RenderTables& rt) {
+  int used = 0;
+  for (int i = 0; i < rt.n; ++i)
+    if (rt.wavelength_pdf.pmf[i] > 0) used = i + 1;
+  for (size_t k = 0; k < rt.materials.size(); ++k) {
+    MaterialTables& t = rt.materials[k];
+    const LayerStack& stack = sc.materials[k].stack;
+    if (!t.stack.enabled || stack.transport != StackTransport::kTable || !stack_response_unsupported(t.stack, t).empty()) continue;
+    StackResponseOptions o;
+    if (stack.table_photons > 0) o.photons = stack.table_photons;
+    o.used_bins = used;
+    t.stack.response = build_stack_response(t.stack, t, rt.n, rt.light_shape, o);
+  }
+}
+
+}  // namespace
 
 RenderTables::RenderTables(const Scene& sc, const std::vector<double>& importance) : n(sc.grid().size()), grid(sc.grid()) {
   const double step = grid.step_nm;
@@ -109,6 +131,7 @@ RenderTables::RenderTables(const Scene& sc, const std::vector<double>& importanc
   film_scale.assign(n, 0.0);
   for (int i = 0; i < n; ++i)
     if (wavelength_pdf.pmf[i] > 0) film_scale[i] = photon_energy_J(grid.wavelength(i)) / wavelength_pdf.pmf[i];
+  build_stack_responses(sc, *this);
 }
 
 }  // namespace ofl

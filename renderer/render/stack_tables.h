@@ -4,6 +4,7 @@
 // CDFs for sampling an excitation wavelength, as the surface albedo matrix has). Units: mm, 1/mm.
 #pragma once
 #include <limits>
+#include <memory>
 #include <utility>
 #include <vector>
 
@@ -12,6 +13,8 @@
 #include "renderer/spectral/eem.h"
 
 namespace ofl {
+
+struct StackResponse;  // renderer/render/stack_response.h
 
 struct StackFluorophoreTables {
   std::vector<float> absorb;   // [ex] mua_f(ex), 1/mm
@@ -46,6 +49,8 @@ struct StackTables {
   // its light (1/mm, photon-shape weighted): how fast scattered excitation fades with depth, which
   // sets how often next-event estimation samples it (layered_bsdf.cpp).
   std::vector<std::vector<float>> led_mu_eff;
+  // The tabulated response (transport "table"), or null: the walk runs at every vertex.
+  std::shared_ptr<const StackResponse> response;
   bool fluorescent() const {
     for (auto& l : layers)
       if (!l.fluors.empty()) return true;
