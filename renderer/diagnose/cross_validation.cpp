@@ -481,6 +481,9 @@ LackOfFit lack_of_fit(const DiagnoseProblem& p, const GlobalFit& fit, const Nois
 bool is_mismatch(const LackOfFit& l, const SelectionOptions& o) {
   return l.ratio < o.mismatch_max_lack_of_fit && l.common_share > o.mismatch_min_common_share;
 }
+// The model in hand already fits within a small multiple of the noise floor: what is left is as
+// likely a slightly wrong instrument or library description as tissue.
+bool nearly_fits(const LackOfFit& l, const SelectionOptions& o) { return l.ratio < o.mismatch_max_lack_of_fit; }
 
 }  // namespace
 
@@ -529,7 +532,7 @@ Diagnosis diagnose(const DiagnoseProblem& p, const SelectionOptions& o) {
     // Once the model in hand nearly fits and what it misses is one shape shared by every item,
     // tissue causes must exceed the noise floor (SelectionOptions: instrument mismatch).
     NoiseFloor floor = dg.floor;
-    floor.instrument_mismatch = step == 1 ? dg.instrument_mismatch : is_mismatch(lack_of_fit(p, full, dg.floor), o);
+    floor.instrument_mismatch = nearly_fits(lack_of_fit(p, full, dg.floor), o);
     std::vector<CvRun> runs(todo.size());
     ProgressBar bar("diagnose: cause " + std::to_string(step) + ", candidates", static_cast<int64_t>(todo.size()));
     auto run_one = [&](size_t k) {

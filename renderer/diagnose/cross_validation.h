@@ -42,11 +42,12 @@ struct SelectionOptions {
   // of subsets tried (z + sqrt(2 ln K)), and it does not significantly worsen the other items.
   // Columns whose values define the subsets (those absent from the data are skipped).
   std::vector<std::string> subset_columns = {"subject", "date", "site", "light_nm"};
-  // Instrument mismatch: when the baseline nearly fits (full-fit RMSE below
-  // `mismatch_max_lack_of_fit` x the noise floor) and most of its residual is one shape shared by
-  // every item (share above `mismatch_min_common_share`), what is left is the signature of a
-  // slightly wrong instrument or library description, not of tissue. Tissue causes must then
-  // explain at least `mismatch_tissue_min_effect` x the noise floor to be named.
+  // Instrument mismatch: once the model in hand nearly fits (full-fit RMSE below
+  // `mismatch_max_lack_of_fit` x the noise floor), what is left is as likely a slightly wrong
+  // instrument or library description as tissue, so tissue causes must explain at least
+  // `mismatch_tissue_min_effect` x the noise floor to be named. When the baseline nearly fits and
+  // most of its residual is one shape shared by every item (share above
+  // `mismatch_min_common_share`) the verdict says "instrument mismatch".
   double mismatch_max_lack_of_fit = 2.0;
   double mismatch_min_common_share = 0.5;
   double mismatch_tissue_min_effect = 1.0;

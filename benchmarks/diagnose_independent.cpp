@@ -1,0 +1,107 @@
+// Recall, false alarms and parameter coverage of `diagnose` on data made by a generator
+// independent of its forward model (tests/independent_spectra.h), per hidden cause, with 95 %
+// bounds (Wilson score interval). Issue 12, item 4.
+//   usage: diagnose_independent [seeds per effect] [effect ...]
+// Prints a markdown table (the rows of benchmarks/results.d/45_diagnose_independent.md).
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+#include <vector>
+
+#include "renderer/diagnose/cross_validation.h"
+#include "tests/independent_spectra.h"
+
+using namespace ofl;
+
+namespace {
+
+struct Expect {
+  std::string effect, cause, quantity;
+  double tolerance;  // absolute, on `quantity`
+};
+
+// Wilson score interval for k successes in n trials (95 %).
+std::pair<double, double> wilson(int k, int n) {
+  if (n == 0) return {0, 1};
+  const double z = 1.959964, p = double(k) / n, d = 1 + z * z / n;
+  double c = (p + z * z / (2 * n)) / d, h = z * std::sqrt(p * (1 - p) / n + z * z / (4.0 * n * n)) / d;
+  return {std::max(0.0, c - h), std::min(1.0, c + h)};
+}
+
+std::string rate(int k, int n) {
+  auto [lo, hi] = wilson(k, n);
+  char b[96];
+  std::snprintf(b, sizeof b, "%d/%d (%.2f-%.2f)", k, n, lo, hi);
+  return b;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  int seeds = argc > 1 ? std::atoi(argv[1]) : 6;
+  std::vector<Expect> all = {
+      {"emission_shift", "emission_shift", "delta_nm", 0.3},
+      {"emission_shift:FAD", "emission_shift:FAD", "delta_nm", 0.3},
+      {"wavelength_shift", "wavelength_shift", "delta_nm", 0.3},
+      {"offset", "stray_light", "fraction", 0.1},  // relative
+      {"excitation_leak", "longpass_leak", "effective_od", 0.0414},
+      {"unknown_fluorophore", "unknown_band", "center_nm", 5.0},
+      {"subset_chlorophyll", "extra_fluorophore:chlorophyll_a", "", 0},
+      {"", "", "", 0},
+  };
+  std::vector<Expect> run;
+  for (int a = 2; a < argc; ++a)
+    for (auto& e : all)
+      if (e.effect == argv[a] || (std::string(argv[a]) == "null" && e.effect.empty())) run.push_back(e);
+  if (run.empty()) run = all;
+  std::printf("| hidden effect | runs | named first | named first, nothing else | parameter within tolerance | tissue cause claimed |\n");
+  std::printf("|---|---|---|---|---|---|\n");
+  for (auto& e : run) {
+    int first = 0, only = 0, params = 0, tissue = 0;
+    for (int s = 0; s < seeds; ++s) {
+      indep::Options o;
+      o.effect = e.effect;
+      o.seed = 1000 + 37 * s;
+      indep::Data d = indep::make_independent(o);
+      SpectraProblem p(d.set, d.model);
+      SelectionOptions so;
+      so.group_columns = {"subject"};
+      so.replicate_columns = {"subject", "site", "light_nm"};
+      so.max_causes = 3;
+      so.parallel = true;
+      Diagnosis dg = diagnose(p, so);
+      std::string named = dg.causes.empty() ? "" : p.candidates()[dg.causes[0].candidate].id;
+      bool ok_first = named == e.cause;
+      for (auto& c : dg.causes) tissue += !e.effect.empty() ? 0 : !p.candidates()[c.candidate].instrument;
+      if (e.effect.empty()) {
+        std::fprintf(stderr, "null seed %d: %s\n", s, dg.verdict.c_str());
+        continue;
+      }
+      first += ok_first;
+      only += ok_first && dg.causes.size() == 1;
+      bool pok = false;
+      if (ok_first && !e.quantity.empty()) {
+        double v = cause_estimate(p, dg.causes[0], e.quantity).value;
+        double t = e.quantity == "center_nm" ? d.truth.at("peak_nm") : d.truth.at(e.quantity);
+        double tol = e.quantity == "fraction" ? e.tolerance * t : e.tolerance;
+        pok = std::fabs(v - t) <= tol;
+        std::fprintf(stderr, "%s seed %d: %s = %.4g (truth %.4g) | %s\n", e.effect.c_str(), s, e.quantity.c_str(), v, t, dg.verdict.c_str());
+      } else if (ok_first) {
+        auto& car = dg.causes[0].trial.carriers;
+        pok = std::find(car.begin(), car.end(), d.carrier) != car.end();
+        std::fprintf(stderr, "%s seed %d: carriers found %zu (truth %s) | %s\n", e.effect.c_str(), s, car.size(), d.carrier.c_str(), dg.verdict.c_str());
+      } else {
+        std::fprintf(stderr, "%s seed %d: %s\n", e.effect.c_str(), s, dg.verdict.c_str());
+      }
+      params += pok;
+    }
+    if (e.effect.empty())
+      std::printf("| none (null data) | %d | | | | %s |\n", seeds, rate(tissue, seeds).c_str());
+    else
+      std::printf("| %s | %d | %s | %s | %s | |\n", e.effect.c_str(), seeds, rate(first, seeds).c_str(), rate(only, seeds).c_str(),
+                  rate(params, seeds).c_str());
+    std::fflush(stdout);
+  }
+  return 0;
+}
