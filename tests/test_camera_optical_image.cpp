@@ -1,0 +1,238 @@
+// The optical-image stage's geometry (renderer/camera/optics.h): area-correct resampling of the
+// render onto a sensor grid of its own conserves light, sensor pixels outside the render's field
+// of view are zero and named in a warning, and blurring conserves light.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+#include <random>
+
+#include <nlohmann/json.hpp>
+
+#include "camera_test_util.h"
+#include "renderer/camera/camera_pipeline.h"
+#include "renderer/camera/optics.h"
+#include "renderer/image/spectral_exr.h"
+
+using namespace ofl;
+using namespace ofl::testing;
+
+namespace {
+constexpr double kPiT = 3.14159265358979323846;
+constexpr double kVfov = 40, kFocal = 4.0;
+constexpr int kW = 64, kH = 48;
+
+// Side of a render pixel on the sensor plane (um), lens focused at infinity: f 2 tan(vfov/2) / H.
+double render_pitch_um() { return kFocal * 1000.0 * 2.0 * std::tan(0.5 * kVfov * kPiT / 180.0) / kH; }
+
+SpectralImage render(double L) {
+  SpectralImage img = uniform_image(kW, kH, bands(405, 695, 10), L);
+  img.attributes["oralfluor.vfov_deg"] = std::to_string(kVfov);
+  return img;
+}
+
+CameraDescription camera_with_optics(int sw, int sh, double pitch_um, bool cos4) {
+  CameraDescription c = box_camera();
+  c.lens.focal_length_mm = kFocal;
+  c.lens.cos4 = cos4;
+  c.sensor.pixel_pitch_um = pitch_um;
+  c.optics.enabled = true;
+  c.optics.sensor_width_px = sw;
+  c.optics.sensor_height_px = sh;
+  return c;
+}
+
+double total_electrons(const CameraRun& r) {
+  double s = 0;
+  for (float e : r.expected.channel_e) s += e;
+  return s;
+}
+}  // namespace
+
+TEST(CameraOpticalImage, UniformSceneTotalElectronsDoNotDependOnTheSensorGrid) {
+  // Reference: no optics stage, one sensor pixel per render pixel with the pitch that makes the
+  // lens's field of view the render's (the camera module as it was). Then sensor grids of the
+  // same physical size but other pixel counts (non-integer ratios to the render grid): the same
+  // light falls on the same area, so the total electrons (all colours) must agree.
+  SpectralImage img = render(0.02);
+  for (bool cos4 : {false, true}) {
+    CameraDescription ref = camera_with_optics(kW, kH, render_pitch_um(), cos4);
+    ref.optics = OpticsDescription{};
+    CameraRun base = simulate_camera(img, ref, {}, "uniform.exr");
+    double want = total_electrons(base);
+    ASSERT_GT(want, 0);
+    for (auto [sw, sh] : {std::pair{100, 75}, std::pair{52, 39}, std::pair{64, 48}, std::pair{172, 129}}) {
+      double pitch = render_pitch_um() * kW / sw;
+      CameraRun r = simulate_camera(img, camera_with_optics(sw, sh, pitch, cos4), {}, "uniform.exr");
+      ASSERT_EQ(r.expected.width, sw);
+      EXPECT_NEAR(total_electrons(r) / want, 1.0, 1e-3) << sw << "x" << sh << (cos4 ? " cos4" : "");
+      EXPECT_EQ(r.summary["optics"]["pixels_without_data"].get<int>(), 0);
+    }
+  }
+}
+
+TEST(CameraOpticalImage, ResamplingConservesLightOfAnyImage) {
+  // Random radiance: sum of L x area on the sensor equals the render's, when the sensor holds the
+  // whole field of view (here offset and larger than it).
+  SpectralImage img = render(0);
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> u(0, 1);
+  for (auto& v : img.data) v = u(rng);
+  OpticsDescription o;
+  o.sensor_width_px = 131;
+  o.sensor_height_px = 97;
+  o.offset_x_um = 37.0;
+  o.offset_y_um = -21.0;
+  double pitch = 2.9;
+  double pr = 1.7;  // render pixel side on the sensor
+  RenderOnSensor m;
+  m.scale = pr / pitch;
+  m.render_pitch_um = pr;
+  m.x0 = (-0.5 * kW * pr - o.offset_x_um) / pitch + 0.5 * o.sensor_width_px;
+  m.y0 = (-0.5 * kH * pr - o.offset_y_um) / pitch + 0.5 * o.sensor_height_px;
+  ASSERT_GT(m.x0, 0);
+  ASSERT_LT(m.x0 + kW * m.scale, o.sensor_width_px);
+  std::vector<float> cov;
+  SpectralImage s = resample_to_sensor(img, o.sensor_width_px, o.sensor_height_px, m, &cov);
+  for (int b = 0; b < img.bands(); ++b) {
+    double in = 0, out = 0;
+    for (int y = 0; y < kH; ++y)
+      for (int x = 0; x < kW; ++x) in += img.pixel(x, y)[b] * pr * pr;
+    for (int y = 0; y < s.height; ++y)
+      for (int x = 0; x < s.width; ++x) out += s.pixel(x, y)[b] * pitch * pitch;
+    EXPECT_NEAR(out / in, 1.0, 1e-5) << "band " << b;
+  }
+  // The covered area is the render's field of view on the sensor.
+  double covered = 0;
+  for (float c : cov) covered += c;
+  EXPECT_NEAR(covered, kW * kH * m.scale * m.scale, 1e-3);
+}
+
+TEST(CameraOpticalImage, SensorPixelsOutsideTheFieldOfViewAreZeroAndNamed) {
+  // 100x75 sensor whose pitch puts the render's 64 columns on exactly 80 sensor columns (10..89)
+  // and its 48 rows on 60 rows starting at 7.5: columns 0-9 and 90-99 and rows 0-6 and 68-74 get
+  // no light (20 x 75 + 14 x 80 = 2620 pixels), rows 7 and 67 half (160 pixels partly covered).
+  SpectralImage img = render(0.02);
+  double pitch = render_pitch_um() * kW / 80.0;
+  CameraRun r = simulate_camera(img, camera_with_optics(100, 75, pitch, false), {}, "uniform.exr");
+  EXPECT_EQ(r.summary["optics"]["pixels_without_data"].get<int>(), 2620);
+  EXPECT_EQ(r.summary["optics"]["pixels_partly_covered"].get<int>(), 160);
+  std::string warning;
+  for (auto& w : r.warnings)
+    if (w.find("field of view does not cover") != std::string::npos) warning = w;
+  ASSERT_FALSE(warning.empty());
+  EXPECT_NE(warning.find("2620 pixels without data and 160 partly covered"), std::string::npos) << warning;
+  EXPECT_NE(warning.find("columns 0-9 (left), columns 90-99 (right), rows 0-7 (top), rows 67-74 (bottom)"),
+            std::string::npos) << warning;
+  auto e = [&](int x, int y) { return r.expected.channel_e[(static_cast<size_t>(y) * 100 + x) * 3 + 1]; };
+  EXPECT_EQ(e(5, 40), 0.0f);
+  EXPECT_EQ(e(95, 40), 0.0f);
+  EXPECT_EQ(e(50, 3), 0.0f);
+  EXPECT_EQ(e(50, 72), 0.0f);
+  EXPECT_GT(e(50, 40), 0.0f);
+  EXPECT_NEAR(e(50, 7) / e(50, 40), 0.5, 1e-4);  // half covered
+}
+
+TEST(CameraOpticalImage, DepthLayeredBlurConservesLightAndKeepsUniformImagesUniform) {
+  // Light inside the frame (a black border wider than any kernel): every band's total is kept
+  // whatever each pixel's blur. A uniform image at one depth stays uniform (edges extended).
+  SpectralImage img = render(0);
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<float> u(0, 1);
+  std::vector<float> depth(kW * kH);
+  for (int y = 0; y < kH; ++y)
+    for (int x = 0; x < kW; ++x) {
+      depth[y * kW + x] = 40.0f + 30.0f * u(rng);  // mm: blur circles 0-43 um, up to 15 render pixels
+      if (x >= 16 && x < kW - 16 && y >= 16 && y < kH - 16)
+        for (int b = 0; b < img.bands(); ++b) img.pixel(x, y)[b] = u(rng);
+    }
+  LensDescription lens;
+  lens.focal_length_mm = kFocal;
+  lens.f_number = 2.0;
+  OpticsDescription o;
+  o.focus_distance_mm = 50;
+  double pr = 3.0;
+  nlohmann::json info;
+  SpectralImage b = blur_optical_image(img, lens, o, pr, &depth, &info);
+  ASSERT_GT(info["depth_layers"].size(), 3u);
+  int biggest = 0;
+  for (auto& l : info["depth_layers"]) biggest = std::max(biggest, l["kernel_size_px_first_band"].get<int>());
+  ASSERT_LT(biggest, 32) << "kernels must fit in the black border";
+  for (int k = 0; k < img.bands(); ++k) {
+    double in = 0, out = 0;
+    for (int i = 0; i < kW * kH; ++i) {
+      in += img.data[i * img.bands() + k];
+      out += b.data[i * img.bands() + k];
+    }
+    EXPECT_NEAR(out / in, 1.0, 1e-5) << "band " << k;
+  }
+  SpectralImage flat = render(1.0);
+  std::vector<float> one_depth(kW * kH, 120.0f);
+  SpectralImage fb = blur_optical_image(flat, lens, o, pr, &one_depth, nullptr);
+  for (float v : fb.data) ASSERT_NEAR(v, 1.0f, 1e-5);
+}
+
+TEST(CameraOpticalImage, BlurCircleIsTheThinLensFormula) {
+  LensDescription lens;
+  lens.focal_length_mm = 4.0;
+  lens.f_number = 2.0;
+  OpticsDescription o;
+  o.focus_distance_mm = 50;
+  double A = 2.0, f = 4.0, df = 50;
+  for (double d : {20.0, 40.0, 50.0, 80.0, 500.0}) {
+    double c = A * f * std::fabs(d - df) / (d * (df - f)) * 1000.0;
+    EXPECT_NEAR(blur_circle_um(lens, o, d), c, 1e-9 * (1 + c)) << d;
+  }
+  EXPECT_NEAR(blur_circle_um(lens, o, -1), A * f / (df - f) * 1000.0, 1e-9);  // at infinity
+}
+
+TEST(CameraOpticalImage, CliUsesTheStageWithAnOpticsSectionAndRejectsBadMtfFiles) {
+  auto dir = scratch("optics_cli");
+  SpectralImage img = render(0.02);
+  write_spectral_exr(dir / "r.exr", img);
+  const std::string sensor = R"("sensor": {"pixel_pitch_um": 3, "qe": {"R": 0.5, "G": 0.5, "B": 0.5},
+      "exposure_s": 0.01, "system_gain_dn_per_e": 0.2, "full_well_e": 100000})";
+  std::ofstream(dir / "cam.json") << R"({"lens": {"focal_length_mm": 4, "f_number": 2.8}, )" << sensor
+                                  << R"(, "optics": {"sensor_pixels": [90, 60], "focus_distance_mm": 300}})";
+  CommandResult r = run_oralfluor("camera " + (dir / "r.exr").string() + " --camera " + (dir / "cam.json").string() +
+                                      " -o " + (dir / "out").string() + " --json --no-dng",
+                                  dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["width"].get<int>(), 90);
+  EXPECT_EQ(j["optics"]["sensor_pixels"][1].get<int>(), 60);
+  // f = 4 mm focused at 300 mm: v = f d / (d - f) = 4.0540 mm, the render pixel 2 v tan(20 deg) / 48 on the sensor.
+  double v = 4.0 * 300 / 296;
+  EXPECT_NEAR(j["optics"]["image_distance_mm"].get<double>(), v, 1e-9);
+  EXPECT_NEAR(j["optics"]["render_pixel_on_sensor_um"].get<double>(), v * 1000 * 2 * std::tan(20 * kPiT / 180) / 48, 1e-6);
+  // Without the section the camera runs on the render grid as before.
+  std::ofstream(dir / "plain.json") << R"({"lens": {"focal_length_mm": 4, "f_number": 2.8}, )" << sensor << "}";
+  CommandResult p = run_oralfluor("camera " + (dir / "r.exr").string() + " --camera " + (dir / "plain.json").string() +
+                                      " -o " + (dir / "out2").string() + " --json --no-dng",
+                                  dir);
+  ASSERT_EQ(p.exit_code, 0) << p.err;
+  auto pj = nlohmann::json::parse(p.out);
+  EXPECT_EQ(pj["width"].get<int>(), kW);
+  EXPECT_FALSE(pj.contains("optics"));
+
+  auto expect_error = [&](const std::string& cam, const std::string& what) {
+    CommandResult e = run_oralfluor("camera " + (dir / "r.exr").string() + " --camera " + (dir / cam).string() +
+                                        " -o " + (dir / "bad").string(),
+                                    dir);
+    EXPECT_EQ(e.exit_code, 2) << cam << ": " << e.err;
+    EXPECT_NE(e.err.find(what), std::string::npos) << e.err;
+  };
+  std::ofstream(dir / "mtf.csv") << "wavelength_nm,frequency_cyc_per_mm,mtf\n550,0,1\n550,100,1.5\n";
+  std::ofstream(dir / "badmtf.json") << R"({"lens": {"focal_length_mm": 4}, )" << sensor
+                                     << R"(, "optics": {"sensor_pixels": [90, 60], "mtf_file": "mtf.csv"}})";
+  expect_error("badmtf.json", "mtf.csv: line 3 column mtf: expected an MTF value in [-1, 1]");
+  std::ofstream(dir / "mtf2.csv") << "wavelength_nm,freq,mtf\n550,0,1\n";
+  std::ofstream(dir / "badmtf2.json") << R"({"lens": {"focal_length_mm": 4}, )" << sensor
+                                      << R"(, "optics": {"sensor_pixels": [90, 60], "mtf_file": "mtf2.csv"}})";
+  expect_error("badmtf2.json", "mtf2.csv");
+  std::ofstream(dir / "nofocal.json") << "{" << sensor << R"(, "optics": {"sensor_pixels": [90, 60]}})";
+  expect_error("nofocal.json", "nofocal.json: /optics: the optics stage needs lens.focal_length_mm");
+  std::ofstream(dir / "both.json") << R"({"lens": {"focal_length_mm": 4, "magnification": -0.1}, )" << sensor
+                                   << R"(, "optics": {"sensor_pixels": [90, 60], "focus_distance_mm": 300}})";
+  expect_error("both.json", "both.json: /optics/focus_distance_mm: give either lens.magnification");
+}
