@@ -1,6 +1,7 @@
 // A slanted-edge MTF (ISO 12233 style) measured on a rendered edge through the optical-image
 // stage agrees with the closed form: diffraction MTF of the f-number x the sensor pixel's
-// aperture (sinc), times the known small factors of the measurement chain (the render's own pixel
+// aperture (sinc), times the known small factors of the measurement chain (the defocus of the
+// edge at 0.3 m with the lens at infinity, the render's own pixel
 // box and the render grid's two piecewise-constant holds, the ESF bins and the finite difference;
 // together 0.81 at the sensor's Nyquist frequency). Tolerance 0.02 (render noise at 16 spp, the ESF window of +-14 pixels; measured 0.014 at most).
 #include <gtest/gtest.h>
@@ -29,6 +30,10 @@ constexpr double kFov = 4.0, kPitch = 3.0, kN = 8.0, kSlantDeg = 5.0;
 
 double mtf_circular(double x) { return x >= 1 ? 0 : 2.0 / kPiT * (std::acos(x) - x * std::sqrt(1 - x * x)); }
 double sinc(double x) { return std::fabs(x) < 1e-12 ? 1.0 : std::sin(kPiT * x) / (kPiT * x); }
+double disk_mtf(double d_um, double nu_per_um) {
+  double a = kPiT * d_um * nu_per_um;
+  return a < 1e-12 ? 1.0 : 2.0 * std::cyl_bessel_j(1.0, a) / a;
+}
 
 // A white Lambertian quad whose left edge runs through the view centre, tilted 5 degrees from the
 // image vertical; nothing behind it (black). A point LED beside the camera, green light only.
@@ -135,12 +140,16 @@ TEST(CameraSlantedEdge, RenderedEdgeMtfIsDiffractionTimesPixelAperture) {
   };
   double dc = transfer(0);
   const double ln_px = 0.550 * kN / kPitch;  // lambda N in sensor pixels
+  const double f_mm = cam.lens.focal_length_mm, blur_um = (f_mm / kN) * f_mm / 300.0 * 1000.0;
   for (double nu : {0.05, 0.1, 0.2, 0.3, 0.4, 0.5}) {
     double measured = transfer(nu) / dc;
     double theory = mtf_circular(nu * ln_px) * sinc(nu);              // diffraction x pixel aperture
     // The render pixel's own box, and the two piecewise-constant holds of the render grid (PSF
     // convolution of the held render, resampling of the held optical image): each a box of 1/4 pixel.
     double chain = std::pow(sinc(0.25 * nu), 3) * sinc(bin * nu) * sinc(2 * bin * nu);  // + ESF bins, central difference
+    // The lens is focused at infinity and the edge is 0.3 m away: a blur circle of A f / d = 0.79 um
+    // (the stage reads the render's aov.depth) multiplies the MTF by 2 J1(pi c nu) / (pi c nu), 0.98 at Nyquist.
+    chain *= disk_mtf(blur_um, nu / kPitch);
     EXPECT_NEAR(measured, theory * chain, 0.02) << "nu = " << nu << " cycles/pixel; theory " << theory;
     // The edge resolves diffraction: without it (pixel aperture and chain only) the MTF would be far higher.
     if (nu >= 0.3) EXPECT_GT(sinc(nu) * chain - measured, 0.1) << "nu = " << nu;

@@ -192,16 +192,24 @@ double blur_circle_um(const LensDescription& lens, const OpticsDescription& o, d
 
 namespace {
 
-constexpr double kLayerStart = 0.1;  // render pixels: blur below this is "in focus"
-constexpr double kLayerRatio = 1.1;  // blur diameter steps of 10 %
+// Depth layers by blur-circle diameter in render pixels: 0 (in focus, below 1/8 pixel), then steps
+// of 1/4 pixel up to 2.5 pixels (finer steps would not change what a pixel sees), then 10 % steps.
+constexpr double kLinearStepPx = 0.25;
+constexpr int kLinearLayers = 10;
+constexpr double kLayerRatio = 1.1;
 constexpr double kMaxBlurPx = 400;
 
 int blur_layer(double c_px) {
-  if (!(c_px >= kLayerStart)) return 0;
+  if (!(c_px >= 0.5 * kLinearStepPx)) return 0;
   c_px = std::min(c_px, kMaxBlurPx);
-  return 1 + static_cast<int>(std::lround(std::log(c_px / kLayerStart) / std::log(kLayerRatio)));
+  double linear_end = kLinearStepPx * kLinearLayers;
+  if (c_px < linear_end) return static_cast<int>(std::lround(c_px / kLinearStepPx));
+  return kLinearLayers + static_cast<int>(std::lround(std::log(c_px / linear_end) / std::log(kLayerRatio)));
 }
-double layer_blur_px(int layer) { return layer == 0 ? 0.0 : kLayerStart * std::pow(kLayerRatio, layer - 1); }
+double layer_blur_px(int layer) {
+  if (layer <= kLinearLayers) return layer * kLinearStepPx;
+  return kLinearStepPx * kLinearLayers * std::pow(kLayerRatio, layer - kLinearLayers);
+}
 
 // The in-focus PSF of one band: Airy, measured (MTF table) or none.
 RadialPsf band_psf(double nm, const LensDescription& lens, const OpticsDescription& o, double v_mm) {

@@ -20,8 +20,8 @@
 //    PSF, convolved with the defocus blur circle of the pixel's depth (scene depth from the EXR's
 //    "aov.depth"), c = A |v - v_d| / v_d (A = f / N the aperture diameter, v_d the image distance
 //    of depth d), i.e. c = A f |d - d_f| / (d (d_f - f)). Each render pixel spreads its light with
-//    its own kernel (depth layers, blur quantised in 10 % steps); occlusion at depth edges is
-//    ignored. Light is conserved: kernels sum to 1 and the image is extended by its edge pixels.
+//    its own kernel (depth layers: blur quantised in 1/4 render pixel steps up to 2.5 pixels, 10 %
+//    steps beyond); occlusion at depth edges is ignored. Light is conserved: kernels sum to 1 and the image is extended by its edge pixels.
 // 3. Resampling onto the sensor grid: every sensor pixel gets the radiance averaged over its area
 //    on the sensor plane, from the exact overlap areas with the render pixels' squares (separable:
 //    overlap lengths in x times in y). Sensor pixels (or parts) outside the render's field of view

@@ -68,13 +68,27 @@ RadialPsf defocus_psf(const RadialPsf& base, double blur_diameter_um) {
   int n = static_cast<int>(std::ceil((R + smax) / p.dr_um)) + 1;
   p.h.resize(n);
   const double norm = 1.0 / (kPi * R * R);
+  // Trapezoid weights w_j base(s_j) s_j and their prefix sums: where the circle of radius s lies
+  // wholly inside the disk (s <= R - r) the angle is 2 pi, wholly outside it is 0; only the
+  // samples between need the angle.
+  const size_t m = base.h.size();
+  std::vector<double> a(m), prefix(m + 1, 0.0);
+  for (size_t j = 0; j < m; ++j) {
+    double w = (j == 0 || j + 1 == m) ? 0.5 : 1.0;
+    a[j] = w * base.h[j] * j * base.dr_um;
+    prefix[j + 1] = prefix[j] + a[j];
+  }
+  auto index_above = [&](double s) {  // first sample index with s_j > s
+    if (s < 0) return size_t{0};
+    return std::min(m, static_cast<size_t>(std::floor(s / base.dr_um)) + 1);
+  };
   for (int k = 0; k < n; ++k) {
-    double r = k * p.dr_um, sum = 0;
-    for (size_t j = 0; j < base.h.size(); ++j) {
-      double s = j * base.dr_um;
-      double w = (j == 0 || j + 1 == base.h.size()) ? 0.5 : 1.0;  // trapezoid
-      sum += w * base.h[j] * s * angle_inside_disk(r, s, R);
-    }
+    double r = k * p.dr_um;
+    size_t inside_end = r < R ? index_above(R - r) : 0;   // samples [0, inside_end) wholly inside
+    size_t partial_begin = r < R ? inside_end : index_above(r - R);
+    size_t partial_end = index_above(R + r);
+    double sum = 2.0 * kPi * prefix[inside_end];
+    for (size_t j = partial_begin; j < partial_end; ++j) sum += a[j] * angle_inside_disk(r, j * base.dr_um, R);
     p.h[k] = norm * sum * base.dr_um;
   }
   return p;
