@@ -236,3 +236,75 @@ TEST(CameraOpticalImage, CliUsesTheStageWithAnOpticsSectionAndRejectsBadMtfFiles
                                    << R"(, "optics": {"sensor_pixels": [90, 60], "focus_distance_mm": 300}})";
   expect_error("both.json", "both.json: /optics/focus_distance_mm: give either lens.magnification");
 }
+
+TEST(CameraOpticalImage, SensorOffsetMovesTheImageAndTheOpticalAxis) {
+  // Sensor grid = render grid (same pitch), sensor centre 2 pixels right of the axis: render
+  // column i lands on sensor column i - 2, and the cos^4 fall-off is centred 2 pixels left of the
+  // sensor centre (between columns 29 and 30 of 64).
+  SpectralImage img = render(0.0);
+  for (int y = 0; y < kH; ++y)
+    for (int b = 0; b < img.bands(); ++b) img.pixel(40, y)[b] = 1.0f;
+  double pitch = render_pitch_um();
+  CameraDescription cam = camera_with_optics(kW, kH, pitch, true);
+  cam.optics.diffraction = false;
+  cam.optics.offset_x_um = 2 * pitch;
+  CameraRun r = simulate_camera(img, cam, {}, "column.exr");
+  auto e = [&](const CameraRun& run, int x, int y) { return run.expected.channel_e[(static_cast<size_t>(y) * kW + x) * 3 + 1]; };
+  EXPECT_GT(e(r, 38, 20), 0.0f);
+  EXPECT_EQ(e(r, 37, 20), 0.0f);
+  EXPECT_EQ(e(r, 39, 20), 0.0f);
+  EXPECT_EQ(e(r, 40, 20), 0.0f);
+  EXPECT_EQ(r.summary["field_geometry"]["axis_offset_px"][0].get<double>(), -2.0);
+  // Uniform scene: the fall-off is symmetric about the shifted axis.
+  CameraRun u = simulate_camera(render(0.02), cam, {}, "uniform.exr");
+  EXPECT_NEAR(e(u, 29, 24) / e(u, 30, 24), 1.0, 1e-6);
+  EXPECT_NEAR(e(u, 20, 24) / e(u, 39, 24), 1.0, 1e-6);
+  EXPECT_GT(e(u, 30, 24), e(u, 32, 24));
+}
+
+TEST(CameraOpticalImage, MeasuredMtfFileOfADiffractionLimitedLensGivesTheAiryBlur) {
+  // An MTF file holding the closed-form diffraction MTF at 450 and 650 nm (f/4) blurs a point like
+  // the built-in Airy PSF; and the optics section survives the raw.json round trip.
+  auto dir = scratch("optics_mtf");
+  const double N = 4.0;
+  {
+    std::ofstream f(dir / "mtf.csv");
+    f << "wavelength_nm,frequency_cyc_per_mm,mtf\n";
+    for (double nm : {450.0, 650.0})
+      for (int i = 0; i <= 200; ++i) {
+        double x = i / 200.0, ln_mm = nm * 1e-6 * N;
+        double m = x >= 1 ? 0 : 2.0 / kPiT * (std::acos(x) - x * std::sqrt(1 - x * x));
+        f << nm << "," << x / ln_mm << "," << m << "\n";
+      }
+  }
+  std::ofstream(dir / "cam.json") << R"({"lens": {"focal_length_mm": 4, "f_number": 4},
+      "sensor": {"pixel_pitch_um": 3, "qe": {"R": 0.5, "G": 0.5, "B": 0.5}, "exposure_s": 0.01,
+                 "system_gain_dn_per_e": 0.2, "full_well_e": 100000},
+      "optics": {"sensor_pixels": [64, 48], "mtf_file": "mtf.csv", "focus_distance_mm": 500}})";
+  CameraDescription measured = load_camera(dir / "cam.json");
+  ASSERT_EQ(measured.optics.mtf.wavelength_nm.size(), 2u);
+  CameraDescription airy = measured;
+  airy.optics.mtf = MtfTable{};
+  SpectralImage point;
+  point.resize(81, 81, {450.0, 650.0});
+  point.pixel(40, 40)[0] = point.pixel(40, 40)[1] = 1.0f;
+  const double pr = 1.0;  // um per render pixel on the sensor
+  SpectralImage a = blur_optical_image(point, airy.lens, airy.optics, pr, nullptr, nullptr);
+  SpectralImage m = blur_optical_image(point, measured.lens, measured.optics, pr, nullptr, nullptr);
+  for (int b = 0; b < 2; ++b) {
+    double peak = a.pixel(40, 40)[b], worst = 0;
+    ASSERT_GT(peak, 0.05);
+    for (int y = 0; y < 81; ++y)
+      for (int x = 0; x < 81; ++x) worst = std::max(worst, std::fabs(double(a.pixel(x, y)[b]) - m.pixel(x, y)[b]));
+    EXPECT_LT(worst / peak, 0.01) << "band " << point.band_nm[b];
+    EXPECT_GT(std::fabs(a.pixel(40, 40)[b] - a.pixel(40, 40)[1 - b]), 0.01) << "the two wavelengths must differ";
+  }
+  // raw.json round trip: the optics section (with the MTF file, absolute) and the focus come back.
+  nlohmann::json j = camera_to_json(measured, 400, 700);
+  auto back = parse_camera(JsonFile::from(j, "raw.json").root());
+  EXPECT_TRUE(back.optics.enabled);
+  EXPECT_EQ(back.optics.sensor_width_px, 64);
+  EXPECT_EQ(back.optics.focus_distance_mm, 500);
+  EXPECT_EQ(back.optics.mtf.wavelength_nm.size(), 2u);
+  EXPECT_NEAR(back.lens.magnification, -4.0 / 496.0, 1e-12);
+}
