@@ -308,3 +308,37 @@ TEST(CameraOpticalImage, MeasuredMtfFileOfADiffractionLimitedLensGivesTheAiryBlu
   EXPECT_EQ(back.optics.mtf.wavelength_nm.size(), 2u);
   EXPECT_NEAR(back.lens.magnification, -4.0 / 496.0, 1e-12);
 }
+
+TEST(CameraOpticalImage, MeasuredPsfImagesThroughTheCliAndTheirErrors) {
+  auto dir = scratch("optics_psf_images");
+  SpectralImage img = render(0.02);
+  write_spectral_exr(dir / "r.exr", img);
+  const std::string head = R"({"lens": {"focal_length_mm": 4, "f_number": 2.8},
+      "sensor": {"pixel_pitch_um": 3, "qe": {"R": 0.5, "G": 0.5, "B": 0.5}, "exposure_s": 0.01,
+                 "system_gain_dn_per_e": 0.2, "full_well_e": 100000}, )";
+  std::ofstream(dir / "psf.csv") << "a,b,c\n0,1,0\n1,4,1\n0,1,0\n";
+  std::ofstream(dir / "ok.json") << head << R"("optics": {"sensor_pixels": [64, 48],
+      "psf_images": [{"wavelength_nm": 550, "file": "psf.csv", "pitch_um": 20}]}})";
+  CommandResult r = run_oralfluor("camera " + (dir / "r.exr").string() + " --camera " + (dir / "ok.json").string() +
+                                      " -o " + (dir / "out").string() + " --json --no-dng",
+                                  dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["optics"]["psf"].get<std::string>(), "measured PSF images");
+  auto expect_error = [&](const std::string& name, const std::string& optics, const std::string& what) {
+    std::ofstream(dir / name) << head << optics << "}";
+    CommandResult e = run_oralfluor("camera " + (dir / "r.exr").string() + " --camera " + (dir / name).string() +
+                                        " -o " + (dir / "bad").string(),
+                                    dir);
+    EXPECT_EQ(e.exit_code, 2) << name << ": " << e.err;
+    EXPECT_NE(e.err.find(what), std::string::npos) << e.err;
+  };
+  std::ofstream(dir / "nan.csv") << "a,b\n0,1\n1,NaN\n";
+  expect_error("nan.json", R"("optics": {"sensor_pixels": [64, 48], "psf_images": [{"wavelength_nm": 550, "file": "nan.csv", "pitch_um": 1}]})",
+               "nan.csv: line 3 column 2: PSF value is NaN or infinite");
+  std::ofstream(dir / "zero.csv") << "a,b\n0,0\n";
+  expect_error("zero.json", R"("optics": {"sensor_pixels": [64, 48], "psf_images": [{"wavelength_nm": 550, "file": "zero.csv", "pitch_um": 1}]})",
+               "zero.csv: the PSF image holds no positive value");
+  expect_error("nopitch.json", R"("optics": {"sensor_pixels": [64, 48], "psf_images": [{"wavelength_nm": 550, "file": "psf.csv"}]})",
+               "nopitch.json: /optics/psf_images/0/pitch_um");
+}

@@ -119,3 +119,49 @@ TEST(CameraPsf, PsfFromDiffractionMtfTableIsTheAiryPattern) {
   for (double r_ln : {0.0, 0.3, 0.6, 1.0, 1.22, 1.7, 2.5})
     EXPECT_NEAR(p(r_ln * ln), airy_intensity(r_ln * ln, nm, N), 5e-3 * peak) << "r = " << r_ln << " lambda N";
 }
+
+TEST(CameraPsf, MeasuredPsfImageKernelKeepsCentroidAndVariance) {
+  // A sampled elliptical Gaussian, centred 2 um right of the image centre (sigma_x 2 um, sigma_y
+  // 1 um, 0.25 um grid), integrated over 1 um pixels: the kernel's centroid is (2, 0) um and its
+  // variances sigma^2 + p^2 / 12 (pixel box) + h^2 / 6 (bilinear interpolation of samples h apart).
+  PsfImage img;
+  img.pitch_um = 0.25;
+  img.width = 121;
+  img.height = 81;
+  for (int y = 0; y < img.height; ++y)
+    for (int x = 0; x < img.width; ++x) {
+      double xu = (x - 60) * img.pitch_um - 2.0, yu = (y - 40) * img.pitch_um;
+      img.v.push_back(std::exp(-0.5 * (xu * xu / 4.0 + yu * yu / 1.0)));
+    }
+  const double p = 1.0;
+  PsfKernel k = image_kernel(img, p, 4);
+  double sum = 0, mx = 0, my = 0;
+  for (int dy = -k.radius; dy <= k.radius; ++dy)
+    for (int dx = -k.radius; dx <= k.radius; ++dx) {
+      sum += k.at(dx, dy);
+      mx += k.at(dx, dy) * dx * p;
+      my += k.at(dx, dy) * dy * p;
+    }
+  double vx = 0, vy = 0;
+  for (int dy = -k.radius; dy <= k.radius; ++dy)
+    for (int dx = -k.radius; dx <= k.radius; ++dx) {
+      vx += k.at(dx, dy) * (dx * p - mx) * (dx * p - mx);
+      vy += k.at(dx, dy) * (dy * p - my) * (dy * p - my);
+    }
+  EXPECT_NEAR(sum, 1.0, 1e-5);
+  EXPECT_NEAR(mx, 2.0, 0.01);
+  EXPECT_NEAR(my, 0.0, 0.01);
+  double h2 = img.pitch_um * img.pitch_um;
+  EXPECT_NEAR(vx, 4.0 + p * p / 12 + h2 / 6, 0.01 * 4);
+  EXPECT_NEAR(vy, 1.0 + p * p / 12 + h2 / 6, 0.01 * 1);
+  // A defocus disk convolved in: variance adds D^2 / 16 (uniform disk of diameter D, per axis).
+  const double D = 6.0;
+  PsfKernel both = convolve_kernels(k, pixel_kernel(defocus_psf(RadialPsf{}, D), p, 8, D / 16));
+  double vx2 = 0, m2 = 0;
+  for (int dy = -both.radius; dy <= both.radius; ++dy)
+    for (int dx = -both.radius; dx <= both.radius; ++dx) m2 += both.at(dx, dy) * dx * p;
+  for (int dy = -both.radius; dy <= both.radius; ++dy)
+    for (int dx = -both.radius; dx <= both.radius; ++dx) vx2 += both.at(dx, dy) * (dx * p - m2) * (dx * p - m2);
+  // The disk kernel is pixel-integrated too: + p^2 / 12 once more.
+  EXPECT_NEAR(vx2, vx + D * D / 16 + p * p / 12, 0.02 * vx2);
+}

@@ -12,6 +12,7 @@
 #include "renderer/camera/psf.h"
 #include "renderer/core/csv.h"
 #include "renderer/core/error.h"
+#include "renderer/image/image_file.h"
 #include "renderer/spectral/units.h"
 
 namespace ofl {
@@ -61,11 +62,53 @@ MtfTable read_mtf_table(const std::filesystem::path& file) {
   return m;
 }
 
+// A PSF image: the first channel of an image file (EXR, TIFF, PNG ...), or a CSV whose rows after
+// the header are the grid's rows. NaN or infinite values are errors; negative values (background
+// subtraction noise) are set to zero; the sum must be positive.
+PsfImage read_psf_image(const std::filesystem::path& file) {
+  PsfImage p;
+  auto bad = [&](const std::string& where, const std::string& what) { throw InputError(file.string(), where, what); };
+  if (file.extension() == ".csv") {
+    CsvNumeric t = read_numeric_csv(file);
+    p.height = static_cast<int>(t.rows.size());
+    p.width = static_cast<int>(t.header.size());
+    for (size_t r = 0; r < t.rows.size(); ++r)
+      for (size_t c = 0; c < t.rows[r].size(); ++c) {
+        double v = t.rows[r][c];
+        if (!std::isfinite(v))
+          bad("line " + std::to_string(t.lines[r]) + " column " + std::to_string(c + 1), "PSF value is NaN or infinite");
+        p.v.push_back(std::max(0.0, v));
+      }
+  } else {
+    FloatImage img = read_image_file(file);
+    p.width = img.width;
+    p.height = img.height;
+    for (int y = 0; y < img.height; ++y)
+      for (int x = 0; x < img.width; ++x) {
+        double v = img.pixels[(static_cast<size_t>(y) * img.width + x) * img.channels];
+        if (!std::isfinite(v))
+          bad("pixel (" + std::to_string(x) + ", " + std::to_string(y) + ")", "PSF value is NaN or infinite");
+        p.v.push_back(std::max(0.0, v));
+      }
+  }
+  double sum = 0;
+  for (double v : p.v) sum += v;
+  if (p.width < 1 || p.height < 1 || !(sum > 0)) bad("", "the PSF image holds no positive value");
+  return p;
+}
+
 }  // namespace
+
+size_t OpticsDescription::nearest_psf_image(double nm) const {
+  size_t best = 0;
+  for (size_t i = 1; i < psf_images.size(); ++i)
+    if (std::fabs(psf_images[i].wavelength_nm - nm) < std::fabs(psf_images[best].wavelength_nm - nm)) best = i;
+  return best;
+}
 
 OpticsDescription parse_optics(const JsonNode& n) {
   n.check_keys({"sensor_pixels", "sensor_offset_um", "focus_distance_mm", "diffraction", "defocus",
-                "psf_extent_lambda_n", "psf_supersample", "mtf_file"});
+                "psf_extent_lambda_n", "psf_supersample", "mtf_file", "psf_images"});
   OpticsDescription o;
   o.enabled = true;
   JsonNode px = n.at("sensor_pixels");
@@ -83,6 +126,19 @@ OpticsDescription parse_optics(const JsonNode& n) {
   o.psf_extent_lambda_n = n.number_or("psf_extent_lambda_n", o.psf_extent_lambda_n, 2.0, 1000.0);
   o.psf_supersample = n.integer_or("psf_supersample", o.psf_supersample, 1, 64);
   if (auto m = n.find("mtf_file")) o.mtf = m->read_file(read_mtf_table);
+  if (auto pi = n.find("psf_images")) {
+    if (o.mtf.wavelength_nm.size() > 0) pi->fail("give either mtf_file or psf_images, not both");
+    if (!pi->is_array() || pi->size() == 0) pi->fail("expected a list of {\"wavelength_nm\", \"file\", \"pitch_um\"}");
+    for (size_t i = 0; i < pi->size(); ++i) {
+      JsonNode e = pi->at(i);
+      e.check_keys({"wavelength_nm", "file", "pitch_um"});
+      PsfImage img = e.at("file").read_file(read_psf_image);
+      img.wavelength_nm = e.at("wavelength_nm").number(100.0, 5000.0);
+      img.pitch_um = e.at("pitch_um").number(1e-3, 1e4);
+      o.psf_images.push_back(std::move(img));
+      o.psf_image_files.push_back(std::filesystem::absolute(e.at("file").existing_file()).string());
+    }
+  }
   return o;
 }
 
@@ -95,6 +151,12 @@ nlohmann::json optics_to_json(const OpticsDescription& o) {
                       {"psf_extent_lambda_n", o.psf_extent_lambda_n},
                       {"psf_supersample", o.psf_supersample}};
   if (!o.mtf.empty()) j["mtf_file"] = std::filesystem::absolute(o.mtf.file).string();  // raw.json is read elsewhere
+  if (!o.psf_images.empty()) {
+    j["psf_images"] = nlohmann::json::array();
+    for (size_t i = 0; i < o.psf_images.size(); ++i)
+      j["psf_images"].push_back({{"wavelength_nm", o.psf_images[i].wavelength_nm}, {"file", o.psf_image_files[i]},
+                                 {"pitch_um", o.psf_images[i].pitch_um}});
+  }
   return j;
 }
 
@@ -214,6 +276,7 @@ double layer_blur_px(int layer) {
 // The in-focus PSF of one band: Airy, measured (MTF table) or none.
 RadialPsf band_psf(double nm, const LensDescription& lens, const OpticsDescription& o, double v_mm) {
   double nw = lens.f_number * v_mm / lens.focal_length_mm;  // working f-number
+  if (!o.psf_images.empty()) return {};  // measured images are handled as kernels
   if (!o.mtf.empty()) {
     size_t k = o.mtf.nearest(nm);
     return psf_from_mtf(o.mtf.freq_cyc_per_mm[k], o.mtf.mtf[k], o.psf_extent_lambda_n * nm * 1e-3 * nw);
@@ -265,12 +328,23 @@ SpectralImage blur_optical_image(const SpectralImage& img, const LensDescription
   tbb::parallel_for(0, nb, [&](int b) {
     double nm = img.band_nm[b];
     RadialPsf base = band_psf(nm, lens, o, v_mm);
+    PsfKernel measured;  // a measured PSF image on the render grid
+    if (!o.psf_images.empty()) measured = image_kernel(o.psf_images[o.nearest_psf_image(nm)], pr, o.psf_supersample);
     double min_sample = 0.5 * nm * 1e-3 * lens.f_number;  // at least 2 samples per lambda N
     std::vector<PsfKernel> ks(used.size());
     std::vector<const PsfKernel*> by_layer(blur_layer(kMaxBlurPx) + 1, nullptr);
     int margin = 0;
     for (size_t u = 0; u < used.size(); ++u) {
       double c_um = layer_blur_px(used[u]) * pr;
+      if (!o.psf_images.empty()) {  // measured image convolved with the pixel-integrated defocus disk
+        ks[u] = c_um > 0 ? convolve_kernels(measured, pixel_kernel(defocus_psf({}, c_um), pr, o.psf_supersample, c_um / 16))
+                         : measured;
+        by_layer[used[u]] = &ks[u];
+        margin = std::max(margin, ks[u].radius);
+        if (b == 0) radius_first[u] = ks[u].radius;
+        if (b == nb - 1) radius_last[u] = ks[u].radius;
+        continue;
+      }
       RadialPsf p = c_um > 0 ? defocus_psf(base, c_um) : base;
       if (p.empty()) {
         ks[u].radius = 0;
@@ -300,7 +374,9 @@ SpectralImage blur_optical_image(const SpectralImage& img, const LensDescription
                         {"kernel_size_px_first_band", 2 * radius_first[u] + 1},
                         {"kernel_size_px_last_band", 2 * radius_last[u] + 1}});
     }
-    (*info)["psf"] = o.mtf.empty() ? (o.diffraction ? "airy" : "none") : "measured MTF " + o.mtf.file;
+    (*info)["psf"] = !o.psf_images.empty() ? std::string("measured PSF images")
+                     : o.mtf.empty()        ? std::string(o.diffraction ? "airy" : "none")
+                                            : "measured MTF " + o.mtf.file;
     (*info)["working_f_number"] = lens.f_number * v_mm / lens.focal_length_mm;
     (*info)["depth_layers"] = layers;
   }

@@ -3,7 +3,7 @@
 //
 //   "optics": { "sensor_pixels": [1280, 800], "sensor_offset_um": [0, 0], "focus_distance_mm": 40,
 //               "diffraction": true, "defocus": true, "psf_extent_lambda_n": 15, "psf_supersample": 4,
-//               "mtf_file": "lens_mtf.csv" }
+//               "mtf_file": "lens_mtf.csv" }    (or "psf_images": [{"wavelength_nm": 550, "file": "psf550.exr", "pitch_um": 0.5}])
 //
 // The pixel pitch is the sensor's "pixel_pitch_um", focal length and f-number are the lens's
 // "focal_length_mm" (required with optics) and "f_number": each number lives in one place.
@@ -35,6 +35,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "renderer/camera/psf.h"
 #include "renderer/core/json_node.h"
 #include "renderer/image/spectral_image.h"
 
@@ -67,6 +68,10 @@ struct OpticsDescription {
   int psf_supersample = 4;         // "psf_supersample": samples per pixel side integrating the PSF (raised
                                    //   automatically to at least 2 per lambda N)
   MtfTable mtf;                    // "mtf_file": measured radial MTF per wavelength, replaces the Airy PSF
+  std::vector<PsfImage> psf_images;  // "psf_images": [{"wavelength_nm", "file", "pitch_um"}]: measured PSF
+                                   //   images (EXR/TIFF/PNG first channel, or a CSV grid), replace the Airy PSF
+  std::vector<std::string> psf_image_files;  // their paths (for raw.json)
+  size_t nearest_psf_image(double nm) const;
 };
 
 // Parses the "optics" object (file errors name the camera file and JSON path; MTF file errors name

@@ -167,4 +167,58 @@ PsfKernel pixel_kernel(const RadialPsf& psf, double pitch, int supersample, doub
   return k;
 }
 
+double PsfImage::operator()(double x_um, double y_um) const {
+  double u = x_um / pitch_um + 0.5 * (width - 1), w = y_um / pitch_um + 0.5 * (height - 1);
+  int x0 = static_cast<int>(std::floor(u)), y0 = static_cast<int>(std::floor(w));
+  double fx = u - x0, fy = w - y0;
+  auto at = [&](int x, int y) {
+    return (x < 0 || y < 0 || x >= width || y >= height) ? 0.0 : v[static_cast<size_t>(y) * width + x];
+  };
+  return (1 - fy) * ((1 - fx) * at(x0, y0) + fx * at(x0 + 1, y0)) + fy * ((1 - fx) * at(x0, y0 + 1) + fx * at(x0 + 1, y0 + 1));
+}
+
+PsfKernel image_kernel(const PsfImage& psf, double pitch, int supersample) {
+  PsfKernel k;
+  double half_um = 0.5 * std::max(psf.width, psf.height) * psf.pitch_um;
+  k.radius = static_cast<int>(std::ceil(half_um / pitch + 0.5));
+  int S = std::min(256, std::max(supersample, static_cast<int>(std::ceil(2.0 * pitch / psf.pitch_um))));
+  int n = k.size();
+  std::vector<double> w(static_cast<size_t>(n) * n, 0.0);
+  double total = 0;
+  for (int dy = -k.radius; dy <= k.radius; ++dy)
+    for (int dx = -k.radius; dx <= k.radius; ++dx) {
+      double sum = 0;
+      for (int b = 0; b < S; ++b)
+        for (int a = 0; a < S; ++a)
+          sum += psf((dx - 0.5 + (a + 0.5) / S) * pitch, (dy - 0.5 + (b + 0.5) / S) * pitch);
+      w[static_cast<size_t>(dy + k.radius) * n + dx + k.radius] = sum;
+      total += sum;
+    }
+  k.raw_sum = total * (pitch / S) * (pitch / S);
+  k.w.resize(w.size());
+  for (size_t i = 0; i < w.size(); ++i) k.w[i] = static_cast<float>(total > 0 ? w[i] / total : 0.0);
+  return k;
+}
+
+PsfKernel convolve_kernels(const PsfKernel& a, const PsfKernel& b) {
+  PsfKernel k;
+  k.radius = a.radius + b.radius;
+  int n = k.size();
+  std::vector<double> w(static_cast<size_t>(n) * n, 0.0);
+  for (int ay = -a.radius; ay <= a.radius; ++ay)
+    for (int ax = -a.radius; ax <= a.radius; ++ax) {
+      double va = a.at(ax, ay);
+      if (va == 0) continue;
+      for (int by = -b.radius; by <= b.radius; ++by)
+        for (int bx = -b.radius; bx <= b.radius; ++bx)
+          w[static_cast<size_t>(ay + by + k.radius) * n + ax + bx + k.radius] += va * b.at(bx, by);
+    }
+  double total = 0;
+  for (double v : w) total += v;
+  k.raw_sum = 1;
+  k.w.resize(w.size());
+  for (size_t i = 0; i < w.size(); ++i) k.w[i] = static_cast<float>(total > 0 ? w[i] / total : 0.0);
+  return k;
+}
+
 }  // namespace ofl

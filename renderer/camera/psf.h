@@ -53,4 +53,20 @@ struct PsfKernel {
 };
 PsfKernel pixel_kernel(const RadialPsf& psf, double pitch_um, int supersample, double max_sample_um);
 
+// A measured PSF image (any shape, not necessarily symmetric): values on a square grid of pitch
+// `pitch_um`, the chief ray at the grid's centre ((width - 1) / 2, (height - 1) / 2 in pixel-centre
+// coordinates), bilinear between samples and zero outside.
+struct PsfImage {
+  double wavelength_nm = 0;
+  double pitch_um = 1;
+  int width = 0, height = 0;
+  std::vector<double> v;  // row-major, y down
+  double operator()(double x_um, double y_um) const;
+};
+// The image PSF integrated over the pixels of a grid of pitch `pitch_um` (supersampled so that
+// samples are at most half the image's pitch apart), normalised to sum 1.
+PsfKernel image_kernel(const PsfImage& psf, double pitch_um, int supersample);
+// Discrete convolution of two kernels (the measured PSF with a defocus disk), normalised to sum 1.
+PsfKernel convolve_kernels(const PsfKernel& a, const PsfKernel& b);
+
 }  // namespace ofl
