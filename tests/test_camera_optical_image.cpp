@@ -342,3 +342,22 @@ TEST(CameraOpticalImage, MeasuredPsfImagesThroughTheCliAndTheirErrors) {
   expect_error("nopitch.json", R"("optics": {"sensor_pixels": [64, 48], "psf_images": [{"wavelength_nm": 550, "file": "psf.csv"}]})",
                "nopitch.json: /optics/psf_images/0/pitch_um");
 }
+
+TEST(CameraOpticalImage, RenderPlaneSeenAtSensorPixelCentres) {
+  // A 4x2 render plane whose pixels span 2 sensor pixels each, starting at sensor x 1, y 0.5, on a
+  // 10x5 sensor: sensor column I sees render column floor((I + 0.5 - 1) / 2), row J render row
+  // floor(J / 2); the rest is outside (-1). This is how `chroma --roi-material` finds the material
+  // under each pixel of an optics-stage raw.
+  std::vector<float> plane = {0, 1, 2, 3, 4, 5, 6, 7};
+  auto s = render_plane_on_sensor(plane, 4, 2, 10, 5, {1, 0.5, 9, 4.5}, -1.0f);
+  auto at = [&](int x, int y) { return s[static_cast<size_t>(y) * 10 + x]; };
+  EXPECT_EQ(at(0, 0), -1.0f);
+  EXPECT_EQ(at(1, 0), 0.0f);
+  EXPECT_EQ(at(2, 1), 0.0f);
+  EXPECT_EQ(at(3, 1), 1.0f);
+  EXPECT_EQ(at(8, 0), 3.0f);
+  EXPECT_EQ(at(9, 0), -1.0f);
+  EXPECT_EQ(at(1, 2), 4.0f);
+  EXPECT_EQ(at(8, 3), 7.0f);
+  EXPECT_EQ(at(4, 4), -1.0f);
+}

@@ -243,6 +243,19 @@ SpectralImage resample_to_sensor(const SpectralImage& img, int Ws, int Hs, const
   return out;
 }
 
+std::vector<float> render_plane_on_sensor(const std::vector<float>& plane, int W, int H, int Ws, int Hs,
+                                          const std::vector<double>& fov, float outside) {
+  std::vector<float> out(static_cast<size_t>(Ws) * Hs, outside);
+  double sx = (fov[2] - fov[0]) / W, sy = (fov[3] - fov[1]) / H;
+  for (int J = 0; J < Hs; ++J)
+    for (int I = 0; I < Ws; ++I) {
+      double i = std::floor((I + 0.5 - fov[0]) / sx), j = std::floor((J + 0.5 - fov[1]) / sy);
+      if (i >= 0 && j >= 0 && i < W && j < H)
+        out[static_cast<size_t>(J) * Ws + I] = plane[static_cast<size_t>(j) * W + static_cast<size_t>(i)];
+    }
+  return out;
+}
+
 // ---- PSF on the render grid -----------------------------------------------------------------
 
 double blur_circle_um(const LensDescription& lens, const OpticsDescription& o, double d_mm) {

@@ -104,6 +104,12 @@ OverlapWeights overlap_weights(int render_n, int sensor_n, double x0, double sca
 SpectralImage resample_to_sensor(const SpectralImage& img, int sensor_w, int sensor_h, const RenderOnSensor& m,
                                  std::vector<float>* coverage);
 
+// A per-pixel render plane (aov.material, say) seen at every sensor pixel's centre (nearest render
+// pixel; `outside` where the centre lies outside the render's field of view), from the mapping
+// the stage records as "render_fov_on_sensor_px" ([x0, y0, x1, y1]) in raw.json's "optics".
+std::vector<float> render_plane_on_sensor(const std::vector<float>& plane, int render_w, int render_h, int sensor_w,
+                                          int sensor_h, const std::vector<double>& fov_on_sensor_px, float outside);
+
 // Blur circle diameter on the sensor (um) of an object at axial distance d_mm (<= 0 or infinite: at infinity).
 double blur_circle_um(const LensDescription& lens, const OpticsDescription& o, double d_mm);
 
