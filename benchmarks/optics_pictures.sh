@@ -4,7 +4,8 @@
 #   - the demo scene (scenes/oraleye_385.json, rendered smaller) through the OralEye-like camera
 #     without the stage (sensor = render grid), with a 160x120 sensor of its own, and focused too near.
 # Usage: benchmarks/optics_pictures.sh [build-dir] [work-dir] [width height spp]
-# Writes docs/images/camera/*.png and prints the camera summaries' optics lines.
+# Writes docs/images/camera/*.png and prints the camera summaries' optics lines and the tongue's
+# chromaticity on each raw (run from the repository root: raw.json names the EXR relative to it).
 set -euo pipefail
 build=${1:-build}
 work=${2:-out/optics_pictures}
@@ -43,5 +44,8 @@ PY
 for c in render_grid sensor_160x120 sensor_160x120_near_focus; do
   "$build/oralfluor" camera "$work/radiance.exr" --camera "$work/$c.json" -o "$work/$c" --no-dng --wb gray | grep -E "optics|camera \"" || true
   cp "$work/$c/camera_preview.png" "$img/demo_$c.png"
+  # The tongue's chromaticity on each raw (the table in docs/camera.md).
+  "$build/oralfluor" chroma "$work/$c/raw.tiff" --roi-material tongue --name chroma_tongue --json > "$work/$c/chroma.json"
+  python3 -c "import json,sys; s=json.load(open(sys.argv[1]))['stats']; c=s['covariance']; print(sys.argv[2], s['cells_used'], 'cells, r %.4f g %.4f, s.d. %.3f %.3f, mean RGB DN' % (s['mean']['r'], s['mean']['g'], c['rr']**0.5, c['gg']**0.5), [round(x, 1) for x in s['mean_rgb_dn']])" "$work/$c/chroma.json" "$c"
 done
 echo "pictures in $img"
