@@ -361,3 +361,20 @@ TEST(CameraOpticalImage, RenderPlaneSeenAtSensorPixelCentres) {
   EXPECT_EQ(at(8, 3), 7.0f);
   EXPECT_EQ(at(4, 4), -1.0f);
 }
+
+TEST(CameraOpticalImage, WarnsWhenAThinLensRenderWouldBeDefocusedTwice) {
+  SpectralImage img = render(0.02);
+  img.aovs["aov.depth"].assign(kW * kH, 0.2f);
+  CameraDescription cam = camera_with_optics(kW, kH, render_pitch_um(), false);
+  auto warned = [&](const SpectralImage& im) {
+    for (auto& w : form_optical_image(im, cam, "r.exr").warnings)
+      if (w.find("rendered with a thin lens") != std::string::npos) return true;
+    return false;
+  };
+  img.attributes["oralfluor.camera_model"] = "pinhole";
+  EXPECT_FALSE(warned(img));
+  img.attributes["oralfluor.camera_model"] = "thin_lens";
+  EXPECT_TRUE(warned(img));
+  cam.optics.defocus = false;
+  EXPECT_FALSE(warned(img));
+}

@@ -451,6 +451,10 @@ OpticalImage form_optical_image(const SpectralImage& img, const CameraDescriptio
   if (o.defocus && has_depth) depth = axial_depth_mm(img, *vfov);
   if (o.defocus && !has_depth)
     oi.warnings.push_back("no aov.depth in " + file + ": defocus not simulated (everything in focus); render with AOVs");
+  if (auto cm = img.attributes.find("oralfluor.camera_model"); cm != img.attributes.end() && cm->second == "thin_lens" &&
+                                                              o.defocus && has_depth)
+    oi.warnings.push_back("the image was rendered with a thin lens, which blurs out-of-focus depths already; the optics "
+                          "stage adds its own defocus on top (render with a pinhole camera, or set optics.defocus false)");
   nlohmann::json psf_info;
   SpectralImage blurred = blur_optical_image(img, cam.lens, o, m.render_pitch_um, depth.empty() ? nullptr : &depth,
                                              &psf_info);
