@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <fstream>
 #include <random>
 
@@ -12,6 +13,7 @@
 #include "camera_test_util.h"
 #include "renderer/camera/camera_pipeline.h"
 #include "renderer/camera/optics.h"
+#include "renderer/core/error.h"
 #include "renderer/image/spectral_exr.h"
 
 using namespace ofl;
@@ -377,4 +379,34 @@ TEST(CameraOpticalImage, WarnsWhenAThinLensRenderWouldBeDefocusedTwice) {
   EXPECT_TRUE(warned(img));
   cam.optics.defocus = false;
   EXPECT_FALSE(warned(img));
+}
+
+TEST(CameraOpticalImage, HugeSensorsAndBlurCirclesAreRefusedOrCappedBeforeTheCost) {
+  // A 100000x80000 sensor on 30 bands needs about 1 TB: an input error naming the field, before
+  // any allocation.
+  SpectralImage img = render(0.02);
+  CameraDescription cam = camera_with_optics(100000, 80000, 0.01, false);
+  cam.source = "huge.json";
+  ::setenv("OFL_MEMORY_LIMIT_MIB", "4096", 1);
+  try {
+    form_optical_image(img, cam, "r.exr");
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(e.describe().find("huge.json: /optics/sensor_pixels"), std::string::npos) << e.describe();
+  }
+  ::unsetenv("OFL_MEMORY_LIMIT_MIB");
+  // Depths just beyond the focal length have enormous blur circles: capped at 64 render pixels,
+  // with a warning that counts them (here the left half of the image).
+  CameraDescription near = camera_with_optics(kW, kH, render_pitch_um(), false);
+  near.lens.f_number = 0.5;  // an 8 mm aperture: blur circles of about 7 mm, over 100 render pixels of 61 um
+  near.optics.focus_distance_mm = 500;
+  SpectralImage one = uniform_image(kW, kH, {550.0}, 0.02);  // one band: the capped kernels are large
+  one.attributes["oralfluor.vfov_deg"] = std::to_string(kVfov);
+  one.aovs["aov.depth"].assign(kW * kH, 0.5f);  // m, in focus
+  for (int y = 0; y < kH; ++y)
+    for (int x = 0; x < kW / 2; ++x) one.aovs["aov.depth"][y * kW + x] = 0.0045f;
+  std::string warning;
+  for (auto& w : form_optical_image(one, near, "r.exr").warnings)
+    if (w.find("blur circles above") != std::string::npos) warning = w;
+  EXPECT_EQ(warning.rfind(std::to_string(kW / 2 * kH) + " render pixels have blur circles above 64", 0), 0u) << warning;
 }

@@ -12,6 +12,7 @@
 #include "renderer/camera/psf.h"
 #include "renderer/core/csv.h"
 #include "renderer/core/error.h"
+#include "renderer/core/memory_limit.h"
 #include "renderer/image/image_file.h"
 #include "renderer/spectral/units.h"
 
@@ -123,7 +124,7 @@ OpticsDescription parse_optics(const JsonNode& n) {
   if (auto f = n.find("focus_distance_mm")) o.focus_distance_mm = f->number(0.0, 1e12);
   o.diffraction = n.boolean_or("diffraction", o.diffraction);
   o.defocus = n.boolean_or("defocus", o.defocus);
-  o.psf_extent_lambda_n = n.number_or("psf_extent_lambda_n", o.psf_extent_lambda_n, 2.0, 1000.0);
+  o.psf_extent_lambda_n = n.number_or("psf_extent_lambda_n", o.psf_extent_lambda_n, 2.0, 100.0);
   o.psf_supersample = n.integer_or("psf_supersample", o.psf_supersample, 1, 64);
   if (auto m = n.find("mtf_file")) o.mtf = m->read_file(read_mtf_table);
   if (auto pi = n.find("psf_images")) {
@@ -272,7 +273,7 @@ namespace {
 constexpr double kLinearStepPx = 0.25;
 constexpr int kLinearLayers = 10;
 constexpr double kLayerRatio = 1.1;
-constexpr double kMaxBlurPx = 400;
+constexpr double kMaxBlurPx = 64;  // larger blur circles are capped (with a warning): kernels cost their area per pixel
 
 int blur_layer(double c_px) {
   if (!(c_px >= 0.5 * kLinearStepPx)) return 0;
@@ -446,6 +447,12 @@ OpticalImage form_optical_image(const SpectralImage& img, const CameraDescriptio
   double v = image_distance_mm(cam.lens, o);
   RenderOnSensor m = map_render_to_sensor(img.width, img.height, *vfov, v, cam.sensor.pixel_pitch_um, o);
 
+  // The blurred copy (render grid), the rows pass and the sensor image, all bands, as floats.
+  const double nb = img.bands();
+  check_memory(cam.source, "/optics/sensor_pixels",
+               4.0 * nb * (double(img.width) * img.height + double(o.sensor_width_px) * (img.height + o.sensor_height_px)),
+               "the optical image (" + std::to_string(o.sensor_width_px) + "x" + std::to_string(o.sensor_height_px) +
+                   " sensor pixels, " + std::to_string(img.bands()) + " bands)");
   std::vector<float> depth;
   bool has_depth = img.aovs.count("aov.depth") > 0;
   if (o.defocus && has_depth) depth = axial_depth_mm(img, *vfov);
@@ -455,6 +462,21 @@ OpticalImage form_optical_image(const SpectralImage& img, const CameraDescriptio
                                                               o.defocus && has_depth)
     oi.warnings.push_back("the image was rendered with a thin lens, which blurs out-of-focus depths already; the optics "
                           "stage adds its own defocus on top (render with a pinhole camera, or set optics.defocus false)");
+  if (!depth.empty()) {
+    size_t capped = 0;
+    double largest = 0;
+    for (float d : depth) {
+      double c = blur_circle_um(cam.lens, o, d) / m.render_pitch_um;
+      largest = std::max(largest, c);
+      capped += c > kMaxBlurPx;
+    }
+    if (capped) {
+      std::ostringstream w;
+      w << capped << " render pixels have blur circles above " << kMaxBlurPx << " render pixels (up to " << largest
+        << "); they are blurred with " << kMaxBlurPx << " (the focus is far from their depth)";
+      oi.warnings.push_back(w.str());
+    }
+  }
   nlohmann::json psf_info;
   SpectralImage blurred = blur_optical_image(img, cam.lens, o, m.render_pitch_um, depth.empty() ? nullptr : &depth,
                                              &psf_info);

@@ -63,7 +63,7 @@ struct OpticsDescription {
   double focus_distance_mm = 0;    // "focus_distance_mm": object distance in focus; 0 (absent) = infinity
   bool diffraction = true;         // "diffraction": Airy PSF of the working f-number per band
   bool defocus = true;             // "defocus": blur circle from the EXR's aov.depth (needs a finite focus or a near scene)
-  double psf_extent_lambda_n = 15; // "psf_extent_lambda_n": Airy table radius in units of lambda N (the rest
+  double psf_extent_lambda_n = 15; // "psf_extent_lambda_n" (2-100): Airy table radius in units of lambda N (the rest
                                    //   of the far rings, about 2 / (pi^2 extent) of the light, is renormalised into the kernel)
   int psf_supersample = 4;         // "psf_supersample": samples per pixel side integrating the PSF (raised
                                    //   automatically to at least 2 per lambda N)
