@@ -98,7 +98,7 @@ RadialPsf psf_from_mtf(const std::vector<double>& freq, const std::vector<double
   double numax = freq.back() * 1e-3;  // cycles per um
   constexpr int kNu = 2000;
   RadialPsf p;
-  p.dr_um = 1.0 / (8.0 * numax);
+  p.dr_um = std::max(1.0 / (8.0 * numax), extent_um / 4096.0);  // at most 4097 samples whatever the table's range
   int n = static_cast<int>(std::ceil(extent_um / p.dr_um)) + 1;
   p.h.resize(n);
   // MTF on a uniform frequency grid (piecewise linear in the table, 1 at 0).

@@ -38,7 +38,7 @@ double airy_intensity(double r_um, double lambda_nm, double n_w);
 RadialPsf defocus_psf(const RadialPsf& base, double blur_diameter_um);
 
 // h(r) from a radial MTF table (frequencies in cycles/mm, increasing, MTF(0) taken as 1, zero
-// beyond the last frequency), out to `extent_um`.
+// beyond the last frequency), out to `extent_um`, sampled at 1 / (8 nu_max) (at most 4097 samples).
 RadialPsf psf_from_mtf(const std::vector<double>& freq_cyc_per_mm, const std::vector<double>& mtf, double extent_um);
 
 // A PSF integrated over the pixels of a square grid of pitch `pitch_um`, centred on pixel (0, 0):
