@@ -341,6 +341,9 @@ TEST(CameraOpticalImage, MeasuredPsfImagesThroughTheCliAndTheirErrors) {
   std::ofstream(dir / "zero.csv") << "a,b\n0,0\n";
   expect_error("zero.json", R"("optics": {"sensor_pixels": [64, 48], "psf_images": [{"wavelength_nm": 550, "file": "zero.csv", "pitch_um": 1}]})",
                "zero.csv: the PSF image holds no positive value");
+  // 3 samples of 10 mm: 30 mm on the sensor, 495 render pixels of 60.6 um.
+  expect_error("wide.json", R"("optics": {"sensor_pixels": [64, 48], "psf_images": [{"wavelength_nm": 550, "file": "psf.csv", "pitch_um": 10000}]})",
+               "psf.csv: pitch_um: the PSF image spans 494.");
   expect_error("nopitch.json", R"("optics": {"sensor_pixels": [64, 48], "psf_images": [{"wavelength_nm": 550, "file": "psf.csv"}]})",
                "nopitch.json: /optics/psf_images/0/pitch_um");
 }

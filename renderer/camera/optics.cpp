@@ -337,6 +337,14 @@ SpectralImage blur_optical_image(const SpectralImage& img, const LensDescription
       if (seen[l]) used.push_back(static_cast<int>(l));
   }
   const double v_mm = image_distance_mm(lens, o);
+  for (size_t i = 0; i < o.psf_images.size(); ++i) {  // a kernel costs its area per pixel and band
+    const PsfImage& p = o.psf_images[i];
+    double span_px = std::max(p.width, p.height) * p.pitch_um / pr;
+    if (span_px > 257)
+      throw InputError(i < o.psf_image_files.size() ? o.psf_image_files[i] : "psf_images", "pitch_um",
+                       "the PSF image spans " + std::to_string(span_px) +
+                           " render pixels (at most 257): crop it or render coarser");
+  }
   SpectralImage out = img;
   std::vector<int> radius_first(used.size(), 0), radius_last(used.size(), 0);
   tbb::parallel_for(0, nb, [&](int b) {

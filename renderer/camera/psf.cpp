@@ -183,6 +183,7 @@ PsfKernel image_kernel(const PsfImage& psf, double pitch, int supersample) {
   k.radius = static_cast<int>(std::ceil(half_um / pitch + 0.5));
   int S = std::min(256, std::max(supersample, static_cast<int>(std::ceil(2.0 * pitch / psf.pitch_um))));
   int n = k.size();
+  S = std::max(1, std::min(S, 8192 / n));  // at most 8192^2 samples in all
   std::vector<double> w(static_cast<size_t>(n) * n, 0.0);
   double total = 0;
   for (int dy = -k.radius; dy <= k.radius; ++dy)
