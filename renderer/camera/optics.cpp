@@ -302,8 +302,8 @@ RadialPsf band_psf(double nm, const LensDescription& lens, const OpticsDescripti
 // Each source pixel q spreads its value with the kernel of its layer; sources beyond the frame
 // repeat the edge pixel, so a uniform image stays uniform and no light leaves the frame.
 void scatter_band(const std::vector<float>& in, int W, int H, const std::vector<int>& layer,
-                  const std::vector<const PsfKernel*>& kernels, int margin, std::vector<double>* out) {
-  out->assign(in.size(), 0.0);
+                  const std::vector<const PsfKernel*>& kernels, int margin, std::vector<float>* out) {
+  out->assign(in.size(), 0.0f);
   for (int qy = -margin; qy < H + margin; ++qy)
     for (int qx = -margin; qx < W + margin; ++qx) {
       size_t src = static_cast<size_t>(std::clamp(qy, 0, H - 1)) * W + std::clamp(qx, 0, W - 1);
@@ -313,7 +313,7 @@ void scatter_band(const std::vector<float>& in, int W, int H, const std::vector<
       int r = k.radius;
       if (qx + r < 0 || qx - r >= W || qy + r < 0 || qy - r >= H) continue;
       for (int dy = std::max(-r, -qy); dy <= std::min(r, H - 1 - qy); ++dy) {
-        double* o = out->data() + static_cast<size_t>(qy + dy) * W;
+        float* o = out->data() + static_cast<size_t>(qy + dy) * W;
         const float* kw = k.w.data() + static_cast<size_t>(dy + r) * k.size() + r;
         for (int dx = std::max(-r, -qx); dx <= std::min(r, W - 1 - qx); ++dx) o[qx + dx] += v * kw[dx];
       }
@@ -383,7 +383,7 @@ SpectralImage blur_optical_image(const SpectralImage& img, const LensDescription
     if (margin == 0) return;
     std::vector<float> plane(np);
     for (size_t i = 0; i < np; ++i) plane[i] = img.data[i * nb + b];
-    std::vector<double> blurred;
+    std::vector<float> blurred;  // float sums: vectorised, relative error ~1e-6
     scatter_band(plane, W, H, layer, by_layer, margin, &blurred);
     for (size_t i = 0; i < np; ++i) out.data[i * nb + b] = static_cast<float>(blurred[i]);
   });
