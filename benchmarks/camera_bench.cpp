@@ -5,6 +5,12 @@
 //                                noise-free to the noisy pipeline.
 //   camera_bench chart OUT.exr [patch_px] [peak_irradiance_W_m2_nm] [band_step_nm]
 //                                writes the synthetic fluorescence chart used in docs/camera.md.
+//   camera_bench psf OUTDIR [f_number] [pitch_um]
+//                                writes the lens PSF kernels of the optical-image stage as PNGs
+//                                (450 and 650 nm in focus, 550 nm with a 12 um blur circle; each
+//                                scaled to its own peak, gamma 0.5 so the rings show) and prints
+//                                their sizes and encircled energies (docs/camera.md).
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -14,7 +20,9 @@
 #include "renderer/analysis/fluorescence_chart.h"
 #include "renderer/camera/camera_pipeline.h"
 #include "renderer/camera/photon_transfer.h"
+#include "renderer/camera/psf.h"
 #include "renderer/camera/sensor_model.h"
+#include "renderer/image/image_file.h"
 #include "renderer/image/spectral_exr.h"
 
 using namespace ofl;
@@ -116,8 +124,51 @@ static void speed() {
               w * h / noisy / 1e6, noisy / quiet);
 }
 
+// A kernel as an 8-bit grey PNG, `zoom` x `zoom` screen pixels per kernel pixel, value
+// (w / peak)^0.5, cropped to `half` pixels around the centre.
+static void write_kernel_png(const std::string& file, const PsfKernel& k, int half, int zoom) {
+  int n = 2 * half + 1, size = n * zoom;
+  float peak = 0;
+  for (float v : k.w) peak = std::max(peak, v);
+  std::vector<unsigned char> px(static_cast<size_t>(size) * size, 0);
+  for (int y = 0; y < size; ++y)
+    for (int x = 0; x < size; ++x) {
+      int dx = x / zoom - half, dy = y / zoom - half;
+      float v = (std::abs(dx) <= k.radius && std::abs(dy) <= k.radius) ? k.at(dx, dy) / peak : 0.0f;
+      px[static_cast<size_t>(y) * size + x] = static_cast<unsigned char>(std::lround(255.0 * std::sqrt(std::max(0.0f, v))));
+    }
+  OIIO::ImageSpec spec(size, size, 1, OIIO::TypeDesc::UINT8);
+  write_image_file(file, spec, px.data());
+}
+
+static int write_psfs(int argc, char** argv) {
+  if (argc < 3) {
+    std::fprintf(stderr, "usage: camera_bench psf OUTDIR [f_number] [pitch_um]\n");
+    return 2;
+  }
+  std::string dir = argv[2];
+  double N = argc > 3 ? std::atof(argv[3]) : 8.0, pitch = argc > 4 ? std::atof(argv[4]) : 0.5;
+  struct Case { const char* name; double nm, blur_um; };
+  for (Case c : {Case{"psf_450nm", 450, 0}, Case{"psf_650nm", 650, 0}, Case{"psf_550nm_defocus", 550, 12}}) {
+    RadialPsf p = airy_psf(c.nm, N, 15);
+    if (c.blur_um > 0) p = defocus_psf(p, c.blur_um);
+    PsfKernel k = pixel_kernel(p, pitch, 4, 0.25 * c.nm * 1e-3 * N);
+    std::string file = dir + "/" + c.name + ".png";
+    write_kernel_png(file, k, 24, 6);
+    double ln = c.nm * 1e-3 * N, ring = 1.22 * ln, ee = 0;
+    for (int dy = -k.radius; dy <= k.radius; ++dy)
+      for (int dx = -k.radius; dx <= k.radius; ++dx)
+        if (std::hypot(dx, dy) * pitch <= ring) ee += k.at(dx, dy);
+    std::printf("%s: f/%g, %g nm, blur circle %g um, grid %g um, kernel %dx%d, first dark ring %.2f um, "
+                "kernel weight within it %.3f; wrote %s\n",
+                c.name, N, c.nm, c.blur_um, pitch, k.size(), k.size(), ring, ee, file.c_str());
+  }
+  return 0;
+}
+
 int main(int argc, char** argv) {
   if (argc > 1 && std::string(argv[1]) == "chart") return write_chart(argc, argv);
+  if (argc > 1 && std::string(argv[1]) == "psf") return write_psfs(argc, argv);
   ptc();
   speed();
   return 0;

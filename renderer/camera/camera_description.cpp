@@ -159,7 +159,7 @@ void add_sample(std::set<double>& xs, double x) {
 CameraDescription parse_camera(const JsonNode& root) {
   // "format": "oralfluor-camera" + "version", as scene and sweep files; the older "format_version"
   // is still read.
-  root.check_keys({"format", "version", "format_version", "name", "description", "lens", "filters", "sensor", "noise", "seed"});
+  root.check_keys({"format", "version", "format_version", "name", "description", "lens", "filters", "sensor", "optics", "noise", "seed"});
   if (auto f = root.find("format"); f && f->string() != "oralfluor-camera") f->fail("expected \"oralfluor-camera\"");
   for (const char* key : {"version", "format_version"})
     if (auto v = root.find(key)) {
@@ -173,6 +173,17 @@ CameraDescription parse_camera(const JsonNode& root) {
     for (size_t i = 0; i < f->size(); ++i) c.filters.filters.push_back(parse_stacked_filter(f->at(i)));
   }
   c.sensor = parse_sensor(root.at("sensor"));
+  if (auto o = root.find("optics")) {
+    c.optics = parse_optics(*o);
+    if (!(c.lens.focal_length_mm > 0)) o->fail("the optics stage needs lens.focal_length_mm");
+    double f = c.lens.focal_length_mm, d = c.optics.focus_distance_mm;
+    if (d > 0) {
+      if (!(d > f)) o->at("focus_distance_mm").fail("must be beyond the focal length " + std::to_string(f) + " mm");
+      if (root.at("lens").has("magnification"))
+        o->at("focus_distance_mm").fail("give either lens.magnification or optics.focus_distance_mm, not both");
+      c.lens.magnification = -f / (d - f);  // the image distance of the focused object, v = f (1 - m)
+    }
+  }
   c.noise = root.boolean_or("noise", c.noise);
   c.seed = unsigned_or(root, "seed", c.seed);
   c.source = root.file();
@@ -207,10 +218,10 @@ nlohmann::json spectrum_to_points_json(const Spectrum& s, double lo, double hi, 
 nlohmann::json camera_to_json(const CameraDescription& c, double lo, double hi) {
   using nlohmann::json;
   json lens = {{"f_number", c.lens.f_number},
-               {"magnification", c.lens.magnification},
                {"transmittance", spectrum_to_points_json(c.lens.transmittance, lo, hi)},
                {"cos4", c.lens.cos4}};
   if (c.lens.focal_length_mm > 0) lens["focal_length_mm"] = c.lens.focal_length_mm;
+  if (!(c.optics.enabled && c.optics.focus_distance_mm > 0)) lens["magnification"] = c.lens.magnification;  // else derived
   if (c.lens.sensor_cra_deg >= 0) lens["sensor_cra_deg"] = c.lens.sensor_cra_deg;
   json filters = json::array();
   for (const auto& sf : c.filters.filters) {
@@ -255,9 +266,11 @@ nlohmann::json camera_to_json(const CameraDescription& c, double lo, double hi) 
                  {"black_level_dn", s.black_level_dn},
                  {"bit_depth", s.bit_depth},
                  {"fixed_pattern_seed", s.fixed_pattern_seed}};
-  return {{"format", "oralfluor-camera"}, {"version", 1}, {"name", c.name}, {"description", "QE source: " + s.qe_source},
-          {"lens", lens},        {"filters", filters}, {"sensor", sensor},
-          {"noise", c.noise},    {"seed", c.seed}};
+  json out = {{"format", "oralfluor-camera"}, {"version", 1}, {"name", c.name}, {"description", "QE source: " + s.qe_source},
+              {"lens", lens},        {"filters", filters}, {"sensor", sensor},
+              {"noise", c.noise},    {"seed", c.seed}};
+  if (c.optics.enabled) out["optics"] = optics_to_json(c.optics);
+  return out;
 }
 
 }  // namespace ofl

@@ -13,6 +13,7 @@
 //     "sensor":  { "pixel_pitch_um": 3.0, "cfa": "RGGB",
 //                  "qe": { "file": "qe.csv", "columns": { "R": "r", "G": "g", "B": "b" } },
 //                  "exposure_s": 0.033, "system_gain_dn_per_e": 0.25, "full_well_e": 10000, ... },
+//     "optics":  { "sensor_pixels": [1280, 800], "focus_distance_mm": 40 },   (optional, optics.h)
 //     "noise": true,
 //     "seed": 1
 //   }
@@ -26,6 +27,7 @@
 
 #include "renderer/camera/cfa_pattern.h"
 #include "renderer/camera/filter_stack.h"
+#include "renderer/camera/optics.h"
 #include "renderer/core/json_node.h"
 #include "renderer/spectral/spectrum.h"
 
@@ -92,6 +94,8 @@ struct CameraDescription {
                                   //   {"type": "measured", "points": [[nm, T], ...]}) with "position":
                                   //   "front" (default, in front of the lens) or "sensor".
   SensorDescription sensor;       // "sensor"
+  OpticsDescription optics;       // "optics": the optical-image stage (own sensor grid, PSF); absent: the
+                                  //   sensor grid is the image's grid and there is no blur (optics.h)
   bool noise = true;              // "noise": false gives the noise-free raw (expected values, no fixed pattern).
   uint64_t seed = 1;              // "seed": temporal noise; the same seed gives the same raw at any thread count.
   std::string source;             // the file it was read from (not serialised)

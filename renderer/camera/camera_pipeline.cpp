@@ -8,6 +8,7 @@
 #include "renderer/core/error.h"
 #include "renderer/image/image_file.h"
 #include "renderer/spectral/band_coverage.h"
+#include "renderer/spectral/units.h"
 
 namespace ofl {
 
@@ -118,15 +119,29 @@ ExposureChoice choose_exposure(const SpectralImage& img, const CameraDescription
 
 }  // namespace
 
-CameraRun simulate_camera(const SpectralImage& img, const CameraDescription& cam_in, const CameraRunOptions& opt,
+CameraRun simulate_camera(const SpectralImage& radiance, const CameraDescription& cam_in, const CameraRunOptions& opt,
                           const std::string& radiance_file) {
   CameraRun run;
   run.camera = cam_in;
   const CameraDescription& cam = run.camera;
   const SensorDescription& s = cam.sensor;
+  // With an "optics" section the sensor sees the optical image (PSF, own grid), else the radiance itself.
+  OpticalImage optical;
+  if (cam.optics.enabled) {
+    optical = form_optical_image(radiance, cam, radiance_file);
+    run.warnings.insert(run.warnings.end(), optical.warnings.begin(), optical.warnings.end());
+  }
+  const SpectralImage& img = cam.optics.enabled ? optical.image : radiance;
   auto lo = img.band_lo(), hi = img.band_hi();
-  run.geometry = make_field_geometry(cam.lens, s, img.width, img.height, render_vfov_deg(img, &run.warnings),
+  run.geometry = make_field_geometry(cam.lens, s, img.width, img.height,
+                                     cam.optics.enabled ? std::nullopt : render_vfov_deg(img, &run.warnings),
                                      &run.warnings);
+  run.geometry.axis_x_px = optical.axis_x_px;
+  run.geometry.axis_y_px = optical.axis_y_px;
+  if (cam.lens.sensor_cra_deg >= 0) {  // the CRA is given at the farthest corner, which the axis offset moves
+    double rmax = run.geometry.max_radius_px();
+    run.geometry.sensor_tan_per_px = rmax > 0 ? std::tan(cam.lens.sensor_cra_deg * kPi / 180.0) / rmax : 0.0;
+  }
   if (run.geometry.source == FieldGeometry::Source::kNone && cam.filters.any_interference() && cam.lens.sensor_cra_deg < 0)
     run.warnings.push_back("interference filters are evaluated at normal incidence everywhere (no field angles)");
   if (auto u = img.attributes.find("emissiveUnits"); u != img.attributes.end() && u->second != "W.m^-2.sr^-1")
@@ -174,10 +189,11 @@ CameraRun simulate_camera(const SpectralImage& img, const CameraDescription& cam
     if (k.rfind("oralfluor.", 0) == 0) attrs[k] = v;
   m.extra["camera"] = camera_to_json(cam, lo.front(), hi.back());
   m.extra["camera_file"] = cam.source;
-  m.extra["radiance"] = {{"file", radiance_file}, {"width", img.width}, {"height", img.height},
+  m.extra["radiance"] = {{"file", radiance_file}, {"width", radiance.width}, {"height", radiance.height},
                          {"band_nm", img.band_nm}, {"band_lo_nm", lo}, {"band_hi_nm", hi}};
   m.extra["exr_attributes"] = attrs;
   m.extra["field_geometry"] = run.geometry.to_json();
+  if (cam.optics.enabled) m.extra["optics"] = optical.info;
 
   // Summary: per CFA channel, expected electrons (photo + dark) and raw means.
   nlohmann::json channels = nlohmann::json::object();
@@ -222,6 +238,7 @@ CameraRun simulate_camera(const SpectralImage& img, const CameraDescription& cam
                  {"adc_clipped_fraction", run.raw.adc_clipped / npx},
                  {"field_geometry", run.geometry.to_json()},
                  {"warnings", run.warnings}};
+  if (cam.optics.enabled) run.summary["optics"] = optical.info;
   return run;
 }
 

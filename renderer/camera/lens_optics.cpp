@@ -1,5 +1,6 @@
 #include "renderer/camera/lens_optics.h"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -8,11 +9,14 @@
 namespace ofl {
 
 double FieldGeometry::radius_px(int x, int y) const {
-  double dx = x + 0.5 - 0.5 * width, dy = y + 0.5 - 0.5 * height;
+  double dx = x + 0.5 - 0.5 * width - axis_x_px, dy = y + 0.5 - 0.5 * height - axis_y_px;
   return std::sqrt(dx * dx + dy * dy);
 }
 
-double FieldGeometry::max_radius_px() const { return radius_px(0, 0); }
+double FieldGeometry::max_radius_px() const {
+  return std::max(std::max(radius_px(0, 0), radius_px(width - 1, 0)),
+                  std::max(radius_px(0, height - 1), radius_px(width - 1, height - 1)));
+}
 
 double FieldGeometry::field_angle(double r) const {
   return pixels_per_tan > 0 ? std::atan(r / pixels_per_tan) : 0.0;
@@ -40,6 +44,7 @@ nlohmann::json FieldGeometry::to_json() const {
   nlohmann::json j = {{"source", src}, {"width", width}, {"height", height}, {"pixels_per_tan", pixels_per_tan},
                       {"vfov_deg", vfov_deg()}, {"max_field_angle_deg", field_angle(max_radius_px()) * 180.0 / kPi}};
   if (sensor_tan_per_px >= 0) j["sensor_tan_per_px"] = sensor_tan_per_px;
+  if (axis_x_px != 0 || axis_y_px != 0) j["axis_offset_px"] = {axis_x_px, axis_y_px};
   return j;
 }
 

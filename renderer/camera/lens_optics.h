@@ -26,10 +26,11 @@ struct FieldGeometry {
   int width = 0, height = 0;
   double pixels_per_tan = 0;   // image distance in pixel units: tan(theta) = r_px / pixels_per_tan
   double sensor_tan_per_px = -1;  // tan(sensor CRA) per pixel of image height; < 0: equal to the field angle
+  double axis_x_px = 0, axis_y_px = 0;  // optical axis relative to the image centre (optics "sensor_offset_um")
 
   // Distance of the centre of pixel (x, y) from the optical axis, in pixels.
   double radius_px(int x, int y) const;
-  double max_radius_px() const;  // at the corner pixels' centres
+  double max_radius_px() const;  // at the farthest corner pixel's centre
   double field_angle(double r_px) const;   // radians, object side
   double sensor_angle(double r_px) const;  // radians, image side at the sensor
   // The vertical field of view this geometry implies (degrees), 0 when unknown.

@@ -1,6 +1,7 @@
 // `oralfluor camera radiance.exr --camera camera.json -o out/`: simulates a camera (lens, filter
 // stack, sensor with EMVA 1288 noise) on a spectral radiance EXR and writes raw.tiff + raw.json,
 // raw.dng, electrons.exr and camera_preview.png. See docs/camera.md.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -15,6 +16,19 @@ namespace ofl {
 
 namespace {
 
+// One line on what the optical-image stage did.
+void print_optics(const nlohmann::json& o, const CameraDescription& cam) {
+  size_t largest = 1;
+  for (const auto& l : o["depth_layers"])
+    largest = std::max<size_t>(largest, l["kernel_size_px_first_band"].get<size_t>());
+  std::printf("optics: sensor %dx%d at %.3g um (a render pixel is %.3g sensor pixels), PSF %s at working f/%.3g, "
+              "%zu depth layer(s), largest kernel %zux%zu render pixels, %zu pixels without data, %zu partly covered\n",
+              o["sensor_pixels"][0].get<int>(), o["sensor_pixels"][1].get<int>(), cam.sensor.pixel_pitch_um,
+              1.0 / o["render_pixels_per_sensor_pixel"].get<double>(), o["psf"].get<std::string>().c_str(),
+              o["working_f_number"].get<double>(), o["depth_layers"].size(), largest, largest,
+              o["pixels_without_data"].get<size_t>(), o["pixels_partly_covered"].get<size_t>());
+}
+
 void print_camera_run(const CameraRun& run, const CameraOutputs& out, const CameraDescription& cam,
                       const SpectralImage& img, const std::string& radiance) {
   const auto& s = run.summary;
@@ -24,6 +38,7 @@ void print_camera_run(const CameraRun& run, const CameraOutputs& out, const Came
   std::printf("exposure %.6g s (%s); field angles from %s; corner %.2f deg\n", run.exposure.exposure_s,
               run.exposure.how.value("mode", "").c_str(), run.geometry.source_name(),
               s["field_geometry"]["max_field_angle_deg"].get<double>());
+  if (s.contains("optics")) print_optics(s["optics"], cam);
   std::printf("%-8s %16s %12s %14s %11s\n", "channel", "mean electrons", "mean DN", "DN - black", "saturated");
   for (const char* c : {"R", "G", "B"}) {
     const auto& ch = s["channels"][c];

@@ -14,6 +14,7 @@
 #include "renderer/camera/camera_description.h"
 #include "renderer/camera/lens_optics.h"
 #include "renderer/camera/raw_writer.h"
+#include "renderer/camera/optics.h"
 #include "renderer/cli/commands.h"
 #include "renderer/core/asset_path.h"
 #include "renderer/core/error.h"
@@ -80,8 +81,17 @@ static std::vector<uint8_t> material_mask(const RawImage& raw, const std::string
   auto it = img.aovs.find("aov.material");
   if (it == img.aovs.end() || !img.attributes.count("oralfluor.materials"))
     throw InputError(exr, "--roi-material", "the radiance EXR has no aov.material plane (render it with oralfluor render)");
-  if (img.width != raw.width || img.height != raw.height)
-    throw InputError(exr, "--roi-material", "the radiance EXR and the raw image differ in size");
+  std::vector<float> plane = it->second;
+  if (img.width != raw.width || img.height != raw.height) {
+    // The camera's optics stage gave the sensor its own grid: look the material up at each sensor
+    // pixel's centre through the mapping raw.json records.
+    const auto& sc = raw.sidecar;
+    if (!sc.contains("optics") || !sc["optics"].contains("render_fov_on_sensor_px"))
+      throw InputError(exr, "--roi-material", "the radiance EXR and the raw image differ in size");
+    auto fov = sc["optics"]["render_fov_on_sensor_px"].get<std::vector<double>>();
+    if (fov.size() != 4) throw InputError(raw_file, "optics/render_fov_on_sensor_px", "expected [x0, y0, x1, y1]");
+    plane = render_plane_on_sensor(plane, img.width, img.height, raw.width, raw.height, fov, -1.0f);
+  }
   nlohmann::json names;
   try {
     names = nlohmann::json::parse(img.attributes.at("oralfluor.materials"));
@@ -97,8 +107,8 @@ static std::vector<uint8_t> material_mask(const RawImage& raw, const std::string
     have += (have.empty() ? "" : ", ") + names[i].get<std::string>();
   }
   if (index < 0) throw InputError(exr, "--roi-material", "no material \"" + name + "\" in the scene (have: " + have + ")");
-  std::vector<uint8_t> mask(it->second.size());
-  for (size_t i = 0; i < mask.size(); ++i) mask[i] = std::lround(it->second[i]) == index;
+  std::vector<uint8_t> mask(plane.size());
+  for (size_t i = 0; i < mask.size(); ++i) mask[i] = std::lround(plane[i]) == index;
   return mask;
 }
 

@@ -145,6 +145,7 @@ void describe_render(const Scene& scene, const RenderStats& st, SpectralImage& i
   img.attributes["oralfluor.spp"] = std::to_string(st.spp_done);
   img.attributes["oralfluor.seed"] = std::to_string(scene.integrator.seed);
   img.attributes["oralfluor.vfov_deg"] = std::to_string(scene.camera.vfov_deg);
+  img.attributes["oralfluor.camera_model"] = scene.camera.model == CameraSpec::Model::kThinLens ? "thin_lens" : "pinhole";
   img.attributes["oralfluor.camera_position"] = nlohmann::json({scene.camera.position.x, scene.camera.position.y, scene.camera.position.z}).dump();
   if (st.interrupted) img.attributes["oralfluor.interrupted"] = "true";
   nlohmann::json names = nlohmann::json::array();
