@@ -27,11 +27,15 @@ test: build
 bench: build
 	./benchmarks/run_all.sh $(BUILD)
 
-# AddressSanitizer + UndefinedBehaviorSanitizer build of everything in build-asan/, then the suite.
+# AddressSanitizer + UndefinedBehaviorSanitizer build in build-asan/ of what the suite runs (the CLI,
+# the test binary, the Python module; not the benchmark programs), then the whole suite. The heaviest
+# tests do less work there (tests/sanitizer_scale.h). Timings: benchmarks/results.d/61_sanitize.md.
+SANITIZE_TARGETS := oralfluor oralfluor_tests _oralfluor oralfluor_python_files
 sanitize: deps
 	@cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DOFL_SANITIZE=ON > build-asan.configure.log 2>&1 || { cat build-asan.configure.log; exit 1; }
-	cmake --build build-asan -j $(JOBS)
+	cmake --build build-asan -j $(JOBS) --target $(SANITIZE_TARGETS)
 	cd build-asan && ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+	  LSAN_OPTIONS=suppressions=$(CURDIR)/tests/lsan.supp \
 	  ctest --output-on-failure -j $(JOBS) --timeout 1800
 
 clean:

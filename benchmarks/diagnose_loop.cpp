@@ -25,7 +25,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
-#include <fstream>
+#include <sstream>
 #include <map>
 #include <memory>
 #include <optional>
@@ -36,6 +36,7 @@
 #include <nlohmann/json.hpp>
 
 #include "renderer/core/asset_path.h"
+#include "renderer/core/atomic_file.h"
 #include "renderer/core/error.h"
 #include "renderer/diagnose/cross_validation.h"
 #include "renderer/diagnose/diagnose_model.h"
@@ -204,7 +205,7 @@ int run(int argc, char** argv) {
     ext[f] = d.final_cv.fold_states[f];
     inst[f] = instrument_only(p, ext[f]);
     fold_report[f] = fs::absolute(fs::path(args.out) / ("fold" + std::to_string(f + 1) + "_report.json")).string();
-    std::ofstream(fold_report[f]) << state_report(p, ext[f], train[f]).dump(2) << "\n";
+    write_file_atomic(fold_report[f], state_report(p, ext[f], train[f]).dump(2) + "\n");
   }
   // The diagnosis' own numbers with the instrument of the extended model for both materials.
   std::vector<ItemFit> diag_base(p.num_items()), diag_ext(p.num_items());
@@ -356,13 +357,14 @@ int run(int argc, char** argv) {
     protos[r.name] = {{"by_" + report_by, rows}, {"by_light_nm", by_light}, {"renders", r.renders}, {"seconds", r.seconds},
                       {"rms_rendered_minus_model", std::sqrt(dd / nn)}};
     // Per-item table.
-    std::ofstream csv(fs::path(args.out) / ("items_" + r.name + ".csv"));
+    std::ostringstream csv;
     csv << "item," << report_by << ",site,light_nm,led_current_mA,fold,rendered_baseline,rendered_extended,model_baseline,model_extended\n";
     auto rm = [](const ItemFit& f) { return std::sqrt(f.residual.squaredNorm() / f.residual.size()); };
     for (int i = 0; i < p.num_items(); ++i)
       csv << p.item_label(i) << "," << p.condition(i, report_by) << "," << p.condition(i, "site") << "," << p.condition(i, "light_nm")
           << "," << p.condition(i, "led_current_mA") << "," << folds.of_item[i] + 1 << "," << rm(r.base[i]) << "," << rm(r.ext[i]) << ","
           << rm(r.base_model[i]) << "," << rm(r.ext_model[i]) << "\n";
+    write_file_atomic(fs::path(args.out) / ("items_" + r.name + ".csv"), csv.str());
     // Materials of the site protocol, for users.
     if (r.name == "site") {
       nlohmann::json mats = nlohmann::json::array();
@@ -373,7 +375,7 @@ int run(int argc, char** argv) {
           if (!seen)
             mats.push_back({{"fold", f + 1}, {"site", p.condition(i, "site")}, {"baseline", r.base_material[i]}, {"extended", r.ext_material[i]}});
         }
-      std::ofstream(fs::path(args.out) / "materials_site.json") << mats.dump(2) << "\n";
+      write_file_atomic(fs::path(args.out) / "materials_site.json", mats.dump(2) + "\n");
     }
   }
   out["protocols"] = protos;
@@ -431,12 +433,12 @@ int run(int argc, char** argv) {
       }
     fs::path pp(args.plot);
     if (pp.has_parent_path()) fs::create_directories(pp.parent_path());
-    std::ofstream(pp) << svg_panels(panels, 2, 560, 340,
-                                    "Measured vs rendered flat patch of the baseline and the extended material (held out, same instrument)");
+    write_file_atomic(pp, svg_panels(panels, 2, 560, 340,
+                                     "Measured vs rendered flat patch of the baseline and the extended material (held out, same instrument)"));
     std::fprintf(stderr, "wrote %s\n", args.plot.c_str());
   }
   out["seconds"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  std::ofstream(fs::path(args.out) / "loop.json") << out.dump(2) << "\n";
+  write_file_atomic(fs::path(args.out) / "loop.json", out.dump(2) + "\n");
   if (args.json) std::printf("%s\n", out.dump(2).c_str());
   std::fprintf(stderr, "wrote %s\n", (fs::path(args.out) / "loop.json").string().c_str());
   return 0;

@@ -4,15 +4,19 @@
 // crosstalk (seed 7). Deterministic; rerun to regenerate:
 //   build/diagnose_make_camera_example assets/measurements/camera_example
 #include <cstdio>
-#include <fstream>
 #include <map>
+#include <sstream>
 #include <string>
 
+#include "renderer/core/atomic_file.h"
+#include "renderer/core/error.h"
 #include "renderer/diagnose/synthetic.h"
 
 using namespace ofl;
 
-int main(int argc, char** argv) {
+namespace {
+
+int run(int argc, char** argv) {
   std::string dir = argc > 1 ? argv[1] : "assets/measurements/camera_example";
   SyntheticCameraOptions o;
   o.seed = 7;
@@ -21,7 +25,7 @@ int main(int argc, char** argv) {
   // One radiance column per patch and illuminant (captures share the measured spectrum).
   std::map<std::string, const CameraPatch*> columns;
   for (auto& p : s.data.patches) columns.emplace(p.id + "_" + p.conditions.at("illuminant"), &p);
-  std::ofstream r(dir + "/radiance.csv");
+  std::ostringstream r;
   r << "wavelength_nm";
   for (auto& [name, p] : columns) r << "," << name;
   r << "\n";
@@ -35,7 +39,8 @@ int main(int argc, char** argv) {
     }
     r << "\n";
   }
-  std::ofstream t(dir + "/patches.csv");
+  write_file_atomic(dir + "/radiance.csv", r.str());
+  std::ostringstream t;
   t << "patch,row,illuminant,capture,r_mean,g_mean,b_mean,r_sd,g_sd,b_sd,n_pixels,exposure,radiance_file,radiance_column\n";
   for (auto& p : s.data.patches) {
     char b[256];
@@ -44,8 +49,20 @@ int main(int argc, char** argv) {
                   p.rgb[1], p.rgb[2], p.sd[0], p.sd[1], p.sd[2], p.n_pixels, p.id.c_str(), p.conditions.at("illuminant").c_str());
     t << b;
   }
+  write_file_atomic(dir + "/patches.csv", t.str());
   std::printf("hidden effect %s:", s.effect_id.c_str());
   for (auto& [k, v] : s.truth) std::printf(" %s=%.4f", k.c_str(), v);
   std::printf("\n");
   return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  try {
+    return run(argc, argv);
+  } catch (const InputError& e) {
+    std::fprintf(stderr, "error: %s\n", e.describe().c_str());
+    return 2;
+  }
 }

@@ -6,6 +6,8 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <string>
+#include <vector>
 
 #include <unistd.h>
 
@@ -79,6 +81,40 @@ TEST(MatFile, NotAMatFileIsAnInputError) {
   std::string e = input_error_of([&] { read_mat_file(f); });
   EXPECT_NE(e.find(f.string()), std::string::npos) << e;
   EXPECT_NE(e.find("not a MATLAB .mat file"), std::string::npos) << e;
+}
+
+// A MAT 4 file written by hand: 20-byte header (type 0 = little-endian double, rows, columns,
+// imaginary flag, name length with its NUL), the name, the column-major data.
+std::string mat4_variable(const std::string& name, uint32_t rows, uint32_t cols, const std::vector<double>& data,
+                          uint32_t name_len = 0) {
+  uint32_t h[5] = {0, rows, cols, 0, name_len ? name_len : uint32_t(name.size() + 1)};
+  std::string b(reinterpret_cast<const char*>(h), sizeof h);
+  b += name;
+  b.push_back('\0');
+  b.append(reinterpret_cast<const char*>(data.data()), data.size() * sizeof(double));
+  return b;
+}
+
+TEST(MatFile, Mat4IsReadAndItsSizesAreCheckedBeforeLibmatio) {
+  auto ok = tmp_dir() / "v4.mat";
+  std::ofstream(ok, std::ios::binary) << mat4_variable("wave", 1, 3, {400, 410, 420}) + mat4_variable("k", 1, 1, {-2.5});
+  MatVariables vars = read_mat_file(ok);
+  ASSERT_EQ(vars.size(), 2u);
+  EXPECT_EQ(vars[0].first, "wave");
+  EXPECT_EQ(vars[0].second.numbers, (std::vector<double>{400, 410, 420}));
+  EXPECT_EQ(vars[1].second.numbers, std::vector<double>{-2.5});
+  // fuzz_mat: 22 bytes whose name length field says 1.8 GB made libmatio's MAT 4 probe allocate it
+  // (tests/fuzz/regressions/mat/mat4_name_length_1.8GB.mat); now an error before libmatio opens it.
+  auto name = tmp_dir() / "v4_name.mat";
+  std::ofstream(name, std::ios::binary) << mat4_variable("wave", 1, 3, {400, 410, 420}, 1872113791u);
+  std::string e = input_error_of([&] { read_mat_file(name); });
+  EXPECT_NE(e.find(name.string() + ": variable 1: name of 1872113791 bytes but only 29 bytes of the file are left"),
+            std::string::npos) << e;
+  // The second variable claims 100000 x 100000 doubles behind 8 bytes.
+  auto data = tmp_dir() / "v4_data.mat";
+  std::ofstream(data, std::ios::binary) << mat4_variable("wave", 1, 3, {400, 410, 420}) + mat4_variable("k", 100000, 100000, {1});
+  e = input_error_of([&] { read_mat_file(data); });
+  EXPECT_NE(e.find("variable 2: 100000x100000 elements of 8 bytes but only 8 bytes of the file are left"), std::string::npos) << e;
 }
 
 // The same spectrum as CSV and as an ISETCam .mat gives the same table everywhere a CSV is read.

@@ -67,6 +67,48 @@ void write_all(int fd, const std::string& contents, const std::filesystem::path&
   }
 }
 
+// Runs a library's writer on the temporary `tmp`; any error names `file` (the user only knows the
+// final name) and removes the temporary.
+void run_writer(const std::filesystem::path& file, const std::filesystem::path& tmp,
+                const std::function<void(const std::filesystem::path&)>& write) {
+  try {
+    write(tmp);
+  } catch (const InputError& e) {
+    std::string what = e.what();
+    for (size_t at; (at = what.find(tmp.string())) != std::string::npos;) what.replace(at, tmp.string().size(), file.string());
+    ::unlink(tmp.c_str());
+    throw InputError(file.string(), e.field(), what);
+  } catch (...) {
+    ::unlink(tmp.c_str());
+    throw;
+  }
+}
+
+// A device or pipe (/dev/null, /dev/stdout, a FIFO) for a library that writes by name: the library
+// may seek and read its file back (libmatio, write_mat_file's check), which a device cannot do, so
+// it writes a temporary in the system's temporary folder, whose bytes then go to the device in place.
+void write_special_via_temporary(const std::filesystem::path& file,
+                                 const std::function<void(const std::filesystem::path&)>& write) {
+  const auto tmp = std::filesystem::temp_directory_path() / temporary_for(file).filename();
+  run_writer(file, tmp, write);
+  std::string bytes;
+  int fd = ::open(tmp.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) fail(file, tmp, "cannot write", errno);
+  char buf[1 << 16];
+  for (ssize_t n; (n = ::read(fd, buf, sizeof buf)) != 0;) {
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0) {
+      int e = errno;
+      ::close(fd);
+      fail(file, tmp, "cannot write", e);
+    }
+    bytes.append(buf, size_t(n));
+  }
+  ::close(fd);
+  ::unlink(tmp.c_str());
+  write_file_atomic(file, bytes);
+}
+
 }  // namespace
 
 std::filesystem::path temporary_for(const std::filesystem::path& file) {
@@ -101,23 +143,12 @@ void write_file_atomic(const std::filesystem::path& file, const std::string& con
 }
 
 void write_via_temporary(const std::filesystem::path& file, const std::function<void(const std::filesystem::path&)>& write) {
-  if (is_special(file)) {  // a device or pipe: the library writes it in place
-    write(file);
+  if (is_special(file)) {
+    write_special_via_temporary(file, write);
     return;
   }
   const auto tmp = temporary_for(file);
-  try {
-    write(tmp);
-  } catch (const InputError& e) {
-    // The writer may have named the temporary: the user only knows the final name.
-    std::string what = e.what();
-    for (size_t at; (at = what.find(tmp.string())) != std::string::npos;) what.replace(at, tmp.string().size(), file.string());
-    ::unlink(tmp.c_str());
-    throw InputError(file.string(), e.field(), what);
-  } catch (...) {
-    ::unlink(tmp.c_str());
-    throw;
-  }
+  run_writer(file, tmp, write);
   int fd = ::open(tmp.c_str(), O_RDONLY | O_CLOEXEC);
   if (fd < 0) fail(file, tmp, "cannot write", errno);
   finish(fd, file, tmp);

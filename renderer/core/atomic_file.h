@@ -23,7 +23,8 @@ std::filesystem::path temporary_for(const std::filesystem::path& file);
 // For libraries that insist on writing a file by name themselves (libmatio): `write(temp)` writes
 // the temporary and must throw on any error it sees; then the temporary is fsynced (an error there
 // counts too) and renamed over `file`. On any failure the temporary is removed and an InputError
-// naming `file` is thrown.
+// naming `file` is thrown. A device or pipe (`-o /dev/null`) gets the bytes of a temporary
+// written in the system's temporary folder, since the library may seek or read back its file.
 void write_via_temporary(const std::filesystem::path& file, const std::function<void(const std::filesystem::path&)>& write);
 
 }  // namespace ofl

@@ -171,21 +171,21 @@ SpectralImage read_spectral_exr(const std::filesystem::path& file) {
     }
     img.data.assign(static_cast<size_t>(img.width) * img.height * img.bands(), 0.0f);
     Imf::FrameBuffer fb;
+    // Slice::Make places the pointer at the data window's origin with integer arithmetic: moving a
+    // pointer outside its array by the window's offset is undefined behaviour (fuzz_spectral_exr,
+    // UBSan, a window whose origin is negative).
     size_t px = sizeof(float) * img.bands();
-    char* base = (char*)img.data.data() - (static_cast<ptrdiff_t>(dw.min.x) + static_cast<ptrdiff_t>(dw.min.y) * img.width) * px;
     for (int b = 0; b < img.bands(); ++b)
-      fb.insert(chans[b].second, Imf::Slice(Imf::FLOAT, base + b * sizeof(float), px, px * img.width));
+      fb.insert(chans[b].second, Imf::Slice::Make(Imf::FLOAT, img.data.data() + b, dw, px, px * img.width));
     if (has_fl && !chans.empty()) {
       img.fluorescence.assign(img.data.size(), 0.0f);
-      char* fbase = (char*)img.fluorescence.data() - (static_cast<ptrdiff_t>(dw.min.x) + static_cast<ptrdiff_t>(dw.min.y) * img.width) * px;
       for (int b = 0; b < img.bands(); ++b)
-        fb.insert("fluorescence." + chans[b].second, Imf::Slice(Imf::FLOAT, fbase + b * sizeof(float), px, px * img.width));
+        fb.insert("fluorescence." + chans[b].second, Imf::Slice::Make(Imf::FLOAT, img.fluorescence.data() + b, dw, px, px * img.width));
     }
     for (auto& name : aov_names) {
       auto& plane = img.aovs[name];
       plane.assign(size_t(img.width) * img.height, 0.0f);
-      char* abase = (char*)plane.data() - (static_cast<ptrdiff_t>(dw.min.x) + static_cast<ptrdiff_t>(dw.min.y) * img.width) * sizeof(float);
-      fb.insert(name, Imf::Slice(Imf::FLOAT, abase, sizeof(float), sizeof(float) * img.width));
+      fb.insert(name, Imf::Slice::Make(Imf::FLOAT, plane.data(), dw, sizeof(float), sizeof(float) * img.width));
     }
     in.setFrameBuffer(fb);
     in.readPixels(dw.min.y, dw.max.y);

@@ -121,6 +121,7 @@ MatPtr open_for_reading(const std::filesystem::path& file) {
   quiet_matio();
   std::error_code ec;
   if (!std::filesystem::is_regular_file(file, ec)) throw InputError(file.string(), "", "file not found");
+  check_mat4_sizes(file);  // libmatio's MAT 4 probe allocates the name length it reads
   MatPtr mat(Mat_Open(file.string().c_str(), MAT_ACC_RDONLY));
   if (!mat) throw InputError(file.string(), "", "not a MATLAB .mat file (libmatio cannot open it)");
   if (Mat_GetVersion(mat.get()) == MAT_FT_MAT5) check_mat5_sizes(file);  // before libmatio trusts the dimensions

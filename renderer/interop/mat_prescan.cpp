@@ -185,4 +185,47 @@ void check_mat5_sizes(const std::filesystem::path& file) {
   }
 }
 
+namespace {
+
+// A MAT 4 type is the decimal number MOPT: M machine format 0-4, O zero, P element type 0-5
+// (double, single, int32, int16, uint16, uint8), T 0-2 (numeric, text, sparse).
+bool mat4_type_ok(uint32_t t) { return t < 5000 && (t / 100) % 10 == 0 && (t / 10) % 10 <= 5 && t % 10 <= 2; }
+
+uint32_t load_u32(const uint8_t* q, bool swap) {
+  uint32_t v;
+  std::memcpy(&v, q, 4);
+  return swap ? __builtin_bswap32(v) : v;
+}
+
+}  // namespace
+
+void check_mat4_sizes(const std::filesystem::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (bytes.size() >= 128 && ((bytes[126] == 'I' && bytes[127] == 'M') || (bytes[126] == 'M' && bytes[127] == 'I'))) return;
+  const uint8_t* d = reinterpret_cast<const uint8_t*>(bytes.data());
+  const uint64_t size = bytes.size();
+  const uint64_t esize[6] = {8, 4, 4, 2, 2, 1};
+  uint64_t pos = 0;
+  for (int index = 1; size - pos >= 20; ++index) {
+    bool swap = !mat4_type_ok(load_u32(d + pos, false));
+    uint32_t type = load_u32(d + pos, swap);
+    if (!mat4_type_ok(type)) return;  // not MAT 4: libmatio says what it is not
+    const uint64_t rows = load_u32(d + pos + 4, swap), cols = load_u32(d + pos + 8, swap);
+    const uint64_t parts = load_u32(d + pos + 12, swap) ? 2 : 1, name_len = load_u32(d + pos + 16, swap);
+    const std::string field = "variable " + std::to_string(index);
+    auto fail = [&](const std::string& what) { throw InputError(file.string(), field, what + " (damaged file?)"); };
+    pos += 20;
+    if (name_len > size - pos)
+      fail("name of " + std::to_string(name_len) + " bytes but only " + std::to_string(size - pos) + " bytes of the file are left");
+    pos += name_len;
+    // rows and columns are below 2^32 each, so their product fits in 64 bits.
+    const uint64_t elements = rows * cols, per = esize[(type / 10) % 10] * parts;
+    if (elements > (size - pos) / per)
+      fail(std::to_string(rows) + "x" + std::to_string(cols) + (parts == 2 ? " complex" : "") + " elements of " +
+           std::to_string(esize[(type / 10) % 10]) + " bytes but only " + std::to_string(size - pos) + " bytes of the file are left");
+    pos += elements * per;
+  }
+}
+
 }  // namespace ofl

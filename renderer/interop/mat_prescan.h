@@ -12,4 +12,11 @@ namespace ofl {
 // that are not little- or big-endian MAT 5 (libmatio reports those itself).
 void check_mat5_sizes(const std::filesystem::path& file);
 
+// The same for a MAT 4 file (no file header; each variable a 20-byte header of type, rows,
+// columns, imaginary flag and name length, then the name and the data), run before libmatio opens
+// the file: libmatio allocates the name length it reads while probing for MAT 4 (fuzz_mat: a
+// 22-byte file made it allocate 1.8 GB). Every name and data size must fit in the file. Does
+// nothing for MAT 5 files (the "IM"/"MI" marker at byte 126) and for what is not MAT 4 either.
+void check_mat4_sizes(const std::filesystem::path& file);
+
 }  // namespace ofl

@@ -103,7 +103,7 @@ const std::vector<Entry>& entries() {
        {"assets/measurements/oe_tongue_lip/index.csv", "assets/measurements/camera_example/patches.csv"}},
       {"gltf", ".gltf", [](const uint8_t* d, size_t n) { read_gltf(as_file(d, n, ".gltf", "tests/data/bad_inputs")); },
        {"tests/data/bad_inputs/gltf_ok.gltf", "tests/data/bad_inputs/gltf_offset_wrap.gltf", "tests/data/bad_inputs/gltf_huge_count.gltf"}},
-      {"glb", ".glb", [](const uint8_t* d, size_t n) { read_gltf(as_file(d, n, ".glb")); }, {"assets/meshes/teeth.glb"}},
+      {"glb", ".glb", [](const uint8_t* d, size_t n) { read_gltf(as_file(d, n, ".glb")); }, {"tests/fuzz/seeds/quad.glb", "assets/meshes/teeth.glb"}},
       {"obj", ".obj", [](const uint8_t* d, size_t n) { parse_obj(as_text(d, n), "input.obj"); }, {"tests/fuzz/seeds/quad.obj"}},
       {"ies", ".ies", [](const uint8_t* d, size_t n) { read_ies_profile(as_file(d, n, ".ies")); },
        {"tests/fuzz/seeds/lambert.ies", "tests/data/bad_inputs/ies_negative_candela.ies", "tests/data/bad_inputs/ies_zero_axis.ies", "tests/data/bad_inputs/ies_huge_count.ies"}},
