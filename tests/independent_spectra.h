@@ -20,6 +20,7 @@
 
 #include "renderer/core/asset_path.h"
 #include "renderer/diagnose/forward_model.h"
+#include "renderer/diagnose/synthetic.h"
 #include "renderer/spectral/eem.h"
 #include "renderer/spectral/spectrum.h"
 
@@ -84,29 +85,10 @@ inline Table read_table(const std::string& rel) {
 // and FAD; extra candidates chlorophyll-a, keratin and bacterial porphyrin; the shipped LED and
 // leak spectra; the nominal 475 nm long-pass.
 inline SpectraModel independent_model() {
-  SpectraModel m;
+  // The instrument as the user describes it is the one of the other synthetic tests (shipped LED
+  // and leak spectra, nominal long-pass); only the data generation below is independent.
+  SpectraModel m = synthetic_spectra_model(SyntheticSpectraOptions{});
   m.fluorophores = {"collagen", "NADH", "FAD"};
-  const std::string L = "lights/oe_tongue_lip/ExcitationLights/";
-  struct { int nm, mA; } leds[] = {{405, 980}, {415, 910}, {450, 870}};
-  for (auto& l : leds) {
-    LightEntry e;
-    e.name = std::to_string(l.nm) + " nm";
-    e.when["light_nm"] = std::to_string(l.nm);
-    SpectrumCsvOptions o;
-    e.spectrum = table_spectrum(read_spectrum_csv(asset_root() / (L + "spd-2024-03-07-verif-" + std::to_string(l.nm) + "nm450SPF-" +
-                                                                  std::to_string(l.mA) + "mA.csv"), o), "radiance");
-    e.leak = table_spectrum(read_spectrum_csv(asset_root() / (L + "spd-2024-03-17-NoiseCheck-" + std::to_string(l.nm) + "nm_" +
-                                                              std::to_string(l.mA) + "mA.csv"), o), "radiance");
-    m.lights.push_back(e);
-  }
-  OpticalFilter lp;
-  lp.kind = OpticalFilter::Kind::kLongpass;
-  lp.edge_nm = 475;
-  lp.width_nm = 5;
-  lp.od = 6;
-  lp.peak = 0.95;
-  m.emission_filter = lp;
-  m.leak = LeakSource::kMeasured;
   m.fit_min_nm = 470;
   m.fit_max_nm = 745;
   m.grid_step_nm = 2;
