@@ -110,11 +110,14 @@ TEST(Eem, PairNormalisationAndStokes) {
 
 TEST(FluorophoreLibrary, HasTheOralFluorophoresWithLiteraturePeaks) {
   // Emission peaks from the literature (DaCosta et al. 2003; Wagnieres et al. 1998):
-  // NADH ~460, FAD ~525, protoporphyrin ~630, chlorophyll-a ~675, teeth ~480 nm.
+  // NADH ~460, FAD ~525, protoporphyrin ~630, chlorophyll-a ~675, teeth ~480 nm, and the porphyrin forms.
   WavelengthGrid g{350, 830, 5};
   std::map<std::string, std::pair<double, double>> expect = {
       {"NADH", {440, 480}}, {"FAD", {510, 545}}, {"protoporphyrin", {620, 645}}, {"chlorophyll_a", {660, 690}}, {"teeth", {460, 500}},
-      {"collagen", {380, 460}}, {"elastin", {410, 480}}, {"keratin", {400, 500}}};
+      {"collagen", {380, 460}}, {"elastin", {410, 480}}, {"keratin", {400, 500}},
+      // Porphyrin forms (main band; Bjurshammar 2017: 636 nm; Sudhakar 1994: 628; Uttamlal 2008: 656; Wagnieres 1998: 626).
+      {"porphyrin_bacterial", {626, 646}}, {"porphyrin_sudhakar", {618, 638}}, {"porphyrin_uttamlal", {646, 666}},
+      {"porphyrin_wagnieres", {616, 636}}};
   auto lib = fluorophore_library();
   EXPECT_EQ(lib.size(), expect.size());
   for (auto& e : lib) {
