@@ -21,6 +21,8 @@ ModelState state_for(const SpectraProblem& from, const ModelState& s, const Spec
     for (size_t j = 0; j < to.candidates().size(); ++j)
       if (to.candidates()[j].id == id) k = static_cast<int>(j);
     if (k < 0) throw InputError("--predict", id, "the predicted spectra's model has no candidate of this id (other fit range?)");
+    if (to.candidates()[k].params.size() != c.theta.size())
+      throw InputError("--predict", id, "the predicted spectra cover another wavelength range, so this cause has other parameters");
     c.candidate = k;
   }
   return out;

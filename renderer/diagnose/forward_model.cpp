@@ -360,6 +360,7 @@ void SpectraProblem::apply_instrument(std::vector<std::vector<double>>& cols, co
   }
   if (!fx.response.empty()) {
     auto knots = response_knots(range_);
+    if (knots.size() != fx.response.size()) throw std::logic_error("instrument_response: parameters do not match the knots");
     std::vector<double> g(grid_.size());
     for (int i = 0; i < grid_.size(); ++i) g[i] = std::exp(piecewise_linear(knots, fx.response, grid_.wavelength(i)));
     for (auto& c : cols)
