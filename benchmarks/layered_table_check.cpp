@@ -20,17 +20,16 @@
 #include "renderer/render/layered_bsdf.h"
 #include "renderer/render/render_job.h"
 #include "renderer/render/stack_response.h"
+#include "tests/layered_table_bench.h"
 
 using namespace ofl;
 using nlohmann::json;
 
 namespace {
 
-struct Bench {
-  Scene scene;
-  std::unique_ptr<RenderTables> tables;
-  const MaterialTables& mt() const { return tables->materials[0]; }
-};
+using test::Bench;
+using test::Mean;
+using test::direction;
 
 std::unique_ptr<Bench> bench(const std::string& preset, const char* transport, int photons) {
   json m = {{"type", "layered_tissue"}, {"preset", preset}, {"transport", transport}};
@@ -49,19 +48,6 @@ std::unique_ptr<Bench> bench(const std::string& preset, const char* transport, i
   b->tables = std::make_unique<RenderTables>(b->scene);
   return b;
 }
-
-glm::dvec3 direction(double mu, double phi) {
-  double s = std::sqrt(std::max(0.0, 1.0 - mu * mu));
-  return {s * std::cos(phi), s * std::sin(phi), mu};
-}
-
-struct Mean {
-  double s1 = 0, s2 = 0;
-  long long n = 0;
-  void add(double v) { s1 += v; s2 += v * v; ++n; }
-  double mean() const { return n ? s1 / n : 0; }
-  double se() const { return n ? std::sqrt(std::max(0.0, s2 / n - mean() * mean()) / n) : 0; }
-};
 
 std::string pm(const Mean& m) {
   char buf[64];

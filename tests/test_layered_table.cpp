@@ -16,6 +16,7 @@
 #include "renderer/render/layered_bsdf.h"
 #include "renderer/render/render_job.h"
 #include "renderer/render/stack_response.h"
+#include "layered_table_bench.h"
 
 using namespace ofl;
 
@@ -23,13 +24,9 @@ namespace {
 
 using nlohmann::json;
 
-// A one-material scene (the material's tables are what is tested) with a 405 nm LED, on a 10 nm grid.
-struct Bench {
-  Scene scene;
-  std::unique_ptr<RenderTables> tables;
-  const MaterialTables& mt() const { return tables->materials[0]; }
-  int bin(double nm) const { return scene.grid().index_of(nm); }
-};
+using test::Bench;
+using test::Mean;
+using test::direction;
 
 std::unique_ptr<Bench> bench(json material, const char* transport, int photons = 0) {
   material["transport"] = transport;
@@ -49,19 +46,6 @@ std::unique_ptr<Bench> bench(json material, const char* transport, int photons =
 }
 
 json preset(const char* name) { return {{"type", "layered_tissue"}, {"preset", name}}; }
-
-glm::dvec3 direction(double mu, double phi) {
-  double s = std::sqrt(std::max(0.0, 1.0 - mu * mu));
-  return {s * std::cos(phi), s * std::sin(phi), mu};
-}
-
-struct Mean {
-  double s1 = 0, s2 = 0;
-  long long n = 0;
-  void add(double v) { s1 += v; s2 += v * v; ++n; }
-  double mean() const { return s1 / n; }
-  double se() const { return std::sqrt(std::max(0.0, s2 / n - mean() * mean()) / n); }
-};
 
 // What one vertex evaluation gives: the fluorescence next-event estimate summed over the lanes,
 // and per lane the elastic diffuse continuation weight (lanes that left through the stack, not
