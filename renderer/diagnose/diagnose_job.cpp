@@ -12,6 +12,18 @@
 
 namespace ofl {
 
+namespace {
+// The forward model names its model file "model" in errors: say which file it is.
+std::unique_ptr<SpectraProblem> spectra_problem(SpectraSet data, SpectraModel model, const std::string& model_file) {
+  try {
+    return std::make_unique<SpectraProblem>(std::move(data), std::move(model));
+  } catch (const InputError& e) {
+    if (e.file() != "model") throw;
+    throw InputError(model_file, e.field(), e.what());
+  }
+}
+}  // namespace
+
 DiagnoseOutcome run_diagnose_job(const DiagnoseJob& job) {
   DiagnoseModelFile m = load_diagnose_model(job.model);
   InputKind kind = detect_input_kind(job.input);
@@ -55,7 +67,7 @@ DiagnoseOutcome run_diagnose_job(const DiagnoseJob& job) {
       });
     if (pred.spectra.empty()) throw InputError("command line", "--predict", "no rows left to predict");
     select.push_back(fit);
-    target = std::make_unique<SpectraProblem>(std::move(pred), m.spectra);
+    target = spectra_problem(std::move(pred), m.spectra, job.model);
   }
   if (kind == InputKind::kSpectra) {
     SpectraSet data = read_spectra_index(job.input, m.file_column, select);
@@ -63,7 +75,7 @@ DiagnoseOutcome run_diagnose_job(const DiagnoseJob& job) {
     ctx.model_options = {{"blood_excitation_path_factor", m.spectra.candidates.blood_excitation_path_factor},
                          {"fit_range_nm", {m.spectra.fit_min_nm, m.spectra.fit_max_nm}},
                          {"fluorophores", m.spectra.fluorophores}};
-    problem = std::make_unique<SpectraProblem>(std::move(data), std::move(m.spectra));
+    problem = spectra_problem(std::move(data), std::move(m.spectra), job.model);
   } else {
     CameraPatchSet data = read_camera_patches(job.input, select);
     ctx.notes = data.notes;
