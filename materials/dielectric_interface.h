@@ -35,6 +35,8 @@ class DielectricInterface {
   DielectricInterface(double alpha, double n_above, double n_below);
   bool smooth() const { return alpha_ <= 0; }
   double alpha() const { return alpha_; }
+  double n_above() const { return n_above_; }
+  double n_below() const { return n_below_; }
   const GgxCoating& ggx() const { return ggx_; }
 
   // The path travelling along `d` hits the interface; reflects or refracts by Fresnel (u0, and

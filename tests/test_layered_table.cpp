@@ -6,16 +6,24 @@
 // - a white furnace (non-absorbing stack over a white base) through the table: sampling and
 //   evaluating the table returns exactly what enters, nothing is created;
 // - reciprocity of the elastic part under a smooth top: f(o, i) against f(i, o), with the spread
-//   between two independently seeded tables as the noise scale.
+//   between two independently seeded tables as the noise scale;
+// - the on-disk cache: an entry read back is the fresh fill bit for bit; what the fill reads changes
+//   the key; corrupt, cut-short and unwritable entries cost a warning and a fresh fill.
 #include <gtest/gtest.h>
+
+#include <unistd.h>
 
 #include <cmath>
 #include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
 
 #include "renderer/core/json_node.h"
 #include "renderer/render/layered_bsdf.h"
 #include "renderer/render/render_job.h"
 #include "renderer/render/stack_response.h"
+#include "renderer/render/stack_response_cache.h"
 #include "layered_table_bench.h"
 
 using namespace ofl;
@@ -206,4 +214,87 @@ TEST(LayeredTable, ElasticPartIsReciprocal) {
   // missing a cosine, differs by tens of percent of f).
   EXPECT_LT(rec, 1.5 * noise + 0.002 * scale);
   EXPECT_GT(scale, 0);
+}
+
+namespace {
+
+std::filesystem::path fresh_dir(const char* name) {
+  auto d = std::filesystem::temp_directory_path() / ("ofl_stack_cache_" + std::to_string(::getpid()) + "_" + name);
+  std::filesystem::remove_all(d);
+  return d;
+}
+
+void expect_same_table(const StackResponse& a, const StackResponse& b) {
+  ASSERT_EQ(a.elastic.size(), b.elastic.size());
+  ASSERT_EQ(a.fluor.size(), b.fluor.size());
+  EXPECT_EQ(0, std::memcmp(a.elastic.data(), b.elastic.data(), 4 * a.elastic.size()));
+  EXPECT_EQ(0, std::memcmp(a.fluor.data(), b.fluor.data(), 4 * a.fluor.size()));
+  EXPECT_EQ(a.fluor_sum, b.fluor_sum);
+  EXPECT_EQ(a.direct, b.direct);
+}
+
+}  // namespace
+
+TEST(LayeredTable, CacheGivesTheFreshTableAndRefusesStaleOrCorruptEntries) {
+  auto b = bench(preset("lateral_tongue"), "walk");
+  const StackTables& st = b->mt().stack;
+  StackResponseOptions o;
+  o.photons = 150;
+  auto fresh = build_stack_response(st, b->mt(), b->tables->n, b->tables->light_shape, o);
+  EXPECT_FALSE(fresh->from_cache);
+  EXPECT_GT(fresh->elastic_albedo(6, b->bin(600)), 0.05);
+
+  o.cache_dir = fresh_dir("a");
+  auto first = build_stack_response(st, b->mt(), b->tables->n, b->tables->light_shape, o);
+  EXPECT_FALSE(first->from_cache);
+  EXPECT_TRUE(first->warnings.empty());
+  const std::string key = stack_response_key(st, b->mt(), b->tables->n, o);
+  const auto file = stack_cache_file(o.cache_dir, key);
+  ASSERT_TRUE(std::filesystem::exists(file));
+  auto second = build_stack_response(st, b->mt(), b->tables->n, b->tables->light_shape, o);
+  EXPECT_TRUE(second->from_cache);
+  expect_same_table(*fresh, *second);  // bit for bit, LED sums recomputed from the same light shapes
+  EXPECT_EQ(second->walks, fresh->walks);
+
+  // Anything the fill reads changes the key: an option, a layer's thickness, a scattering value.
+  StackResponseOptions o2 = o;
+  o2.seed += 1;
+  EXPECT_NE(stack_response_key(st, b->mt(), b->tables->n, o2), key);
+  StackTables thicker = st;
+  thicker.layers[0].bottom += 0.01;
+  EXPECT_NE(stack_response_key(thicker, b->mt(), b->tables->n, o), key);
+  StackTables cloudier = st;
+  cloudier.layers.back().mus[3] *= 1.0001f;
+  EXPECT_NE(stack_response_key(cloudier, b->mt(), b->tables->n, o), key);
+
+  // A corrupt entry (one byte flipped) is ignored with a warning naming it, filled again, overwritten.
+  {
+    std::fstream f(file, std::ios::in | std::ios::out | std::ios::binary);
+    f.seekg(200);
+    char c = 0;
+    f.read(&c, 1);
+    c ^= 0x10;
+    f.seekp(200);
+    f.write(&c, 1);
+  }
+  auto third = build_stack_response(st, b->mt(), b->tables->n, b->tables->light_shape, o);
+  EXPECT_FALSE(third->from_cache);
+  ASSERT_EQ(third->warnings.size(), 1u);
+  EXPECT_NE(third->warnings[0].find(file.string()), std::string::npos) << third->warnings[0];
+  expect_same_table(*fresh, *third);
+  EXPECT_TRUE(build_stack_response(st, b->mt(), b->tables->n, b->tables->light_shape, o)->from_cache);
+  // Cut short: ignored too.
+  std::filesystem::resize_file(file, 1000);
+  EXPECT_FALSE(build_stack_response(st, b->mt(), b->tables->n, b->tables->light_shape, o)->from_cache);
+  std::filesystem::remove_all(o.cache_dir);
+
+  // A cache that cannot be written (a file where its folder should be) costs a warning, not the table.
+  o.cache_dir = fresh_dir("b");
+  { std::ofstream(o.cache_dir.string()) << "x"; }
+  auto unwritable = build_stack_response(st, b->mt(), b->tables->n, b->tables->light_shape, o);
+  EXPECT_FALSE(unwritable->from_cache);
+  ASSERT_EQ(unwritable->warnings.size(), 1u);
+  EXPECT_NE(unwritable->warnings[0].find("not cached"), std::string::npos) << unwritable->warnings[0];
+  expect_same_table(*fresh, *unwritable);
+  std::filesystem::remove(o.cache_dir);
 }

@@ -2,10 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 #include "renderer/camera/camera_description.h"
 #include "renderer/camera/expected_signal.h"
 #include "renderer/render/stack_response.h"
+#include "renderer/render/stack_response_cache.h"
 #include "renderer/spectral/units.h"
 
 namespace ofl {
@@ -25,7 +27,11 @@ void build_stack_responses(const Scene& sc, RenderTables& rt) {
     StackResponseOptions o;
     if (stack.table_photons > 0) o.photons = stack.table_photons;
     o.used_bins = used;
-    t.stack.response = build_stack_response(t.stack, t, rt.n, rt.light_shape, o);
+    o.cache_dir = default_stack_cache_dir();
+    o.label = sc.materials[k].name;
+    auto r = build_stack_response(t.stack, t, rt.n, rt.light_shape, o);
+    for (const std::string& w : r->warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
+    t.stack.response = std::move(r);
   }
 }
 

@@ -7,6 +7,8 @@
 
 #include <tbb/parallel_for.h>
 
+#include "renderer/core/progress.h"
+#include "renderer/render/stack_response_cache.h"
 #include "renderer/render/stack_walk.h"
 
 namespace ofl {
@@ -317,9 +319,11 @@ std::string stack_response_unsupported(const StackTables& st, const MaterialTabl
   return {};
 }
 
-std::shared_ptr<const StackResponse> build_stack_response(const StackTables& st, const MaterialTables& mt, int n,
-                                                          const std::vector<std::vector<float>>& light_shapes,
-                                                          const StackResponseOptions& opt) {
+namespace {
+
+// The walks and the elastic and fluorescent tables (what the cache keeps).
+std::shared_ptr<StackResponse> fill_stack_response(const StackTables& st, const MaterialTables& mt, int n,
+                                                   const StackResponseOptions& opt) {
   auto t0 = std::chrono::steady_clock::now();
   auto r = std::make_shared<StackResponse>();
   r->nodes = opt.nodes;
@@ -330,14 +334,38 @@ std::shared_ptr<const StackResponse> build_stack_response(const StackTables& st,
   WalkSums sums;
   sums.fluence.assign(size_t(N) * n * B, 0.0);
   sums.exits.assign(size_t(N) * N * n, 0.0);
+  ProgressBar progress("layered table" + (opt.label.empty() ? std::string() : " " + opt.label), int64_t(N) * groups);
   tbb::parallel_for(0, N * groups, [&](int job) {
     run_job(st, mt, n, bins, opt, *r, job / groups, job % groups, sums);
+    progress.advance();
   });
+  progress.finish();
   r->walks = (long long)N * groups * opt.photons;
   fill_elastic(sums, opt, *r);
   fill_fluorescence(st, bins, sums, *r);
-  fill_sums_and_direct(light_shapes, *r);
   r->build_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return r;
+}
+
+}  // namespace
+
+std::shared_ptr<const StackResponse> build_stack_response(const StackTables& st, const MaterialTables& mt, int n,
+                                                          const std::vector<std::vector<float>>& light_shapes,
+                                                          const StackResponseOptions& opt) {
+  std::shared_ptr<StackResponse> r;
+  std::string key, warning;
+  if (!opt.cache_dir.empty()) {
+    key = stack_response_key(st, mt, n, opt);
+    r = load_cached_stack_response(opt.cache_dir, key, opt.nodes, n, warning);
+    if (r) r->from_cache = true;
+  }
+  if (!r) {
+    r = fill_stack_response(st, mt, n, opt);
+    if (!warning.empty()) r->warnings.push_back(warning);
+    if (!key.empty())
+      if (std::string w = store_stack_response(opt.cache_dir, key, *r); !w.empty()) r->warnings.push_back(w);
+  }
+  fill_sums_and_direct(light_shapes, *r);
   return r;
 }
 

@@ -28,6 +28,7 @@
 // of threads. Stacks whose fluorophores have textures, or with a fluorescent base, are not
 // tabulated (the walk runs): the table holds one point's response.
 #pragma once
+#include <filesystem>
 #include <memory>
 #include <string>
 #include <vector>
@@ -45,6 +46,9 @@ struct StackResponseOptions {
   bool symmetrize = false;
   uint64_t seed = 0x5354414BULL;
   int used_bins = 0;      // bins from this one up are not walked (the film never samples them); 0 = all
+  // The on-disk cache folder (renderer/render/stack_response_cache.h); empty: no cache.
+  std::filesystem::path cache_dir;
+  std::string label;      // what the progress line calls the table (the material's name)
 };
 
 struct StackResponse {
@@ -56,8 +60,10 @@ struct StackResponse {
   std::vector<float> fluor, fluor_sum, fluor_cdf;
   // [group][(o * nodes + i) * n + em]: sum over ex of fluor times the LED group's photon shape.
   std::vector<std::vector<float>> direct;
-  double build_seconds = 0;
+  double build_seconds = 0;  // of the fill (also when read back from the cache)
   long long walks = 0;
+  bool from_cache = false;
+  std::vector<std::string> warnings;  // the cache's (an entry ignored, a table not stored)
 
   // Linear interpolation between the nodes (held constant outside the first and last).
   struct Weights {

@@ -5,32 +5,12 @@
 #include <fstream>
 
 #include "renderer/core/error.h"
+#include "renderer/core/hash.h"
 #include "renderer/image/spectral_exr.h"
 #include "renderer/sweep/sweep_store.h"
 
 namespace ofl {
 namespace {
-
-using u128 = unsigned __int128;
-
-// FNV-1a with the 128-bit parameters (offset basis 0x6c62272e07bb014262b821756295c58d, prime
-// 2^88 + 0x13b): wide enough that two different renders never share a name in practice.
-struct Fnv128 {
-  u128 h = (u128(0x6c62272e07bb0142ULL) << 64) | u128(0x62b821756295c58dULL);
-  void add(const char* p, size_t n) {
-    const u128 prime = (u128(1) << 88) | u128(0x13b);
-    for (size_t i = 0; i < n; ++i) {
-      h ^= u128(static_cast<unsigned char>(p[i]));
-      h *= prime;
-    }
-  }
-  std::string hex() const {
-    char b[33];
-    std::snprintf(b, sizeof b, "%016llx%016llx", static_cast<unsigned long long>(h >> 64),
-                  static_cast<unsigned long long>(h));
-    return b;
-  }
-};
 
 nlohmann::json opt_json(const auto& o) { return o ? nlohmann::json(*o) : nlohmann::json(nullptr); }
 
