@@ -38,18 +38,24 @@ DielectricInterface::DielectricInterface(double alpha, double n_above, double n_
   valid_from_above_.fill(1.0);
   valid_from_below_.fill(1.0);
   if (smooth()) return;
-  // V(mu) by stratified quadrature over the visible normals and the Fresnel branch.
-  const int n = 48;
+  // V(mu) by stratified quadrature over the visible normals, each normal's two branches weighted
+  // by their Fresnel probabilities (reflection F, refraction 1 - F).
+  const int n = 64;
   for (int side = 0; side < 2; ++side)
     for (int k = 0; k < kTable; ++k) {
       double mu = (k + 0.5) / kTable, s = std::sqrt(1 - mu * mu);
       glm::dvec3 d(s, 0, side == 0 ? -mu : mu);  // from above travelling down, or from below travelling up
       double valid = 0;
       for (int a = 0; a < n; ++a)
-        for (int b = 0; b < n; ++b)
-          for (double u0 : {0.25, 0.75})  // the Fresnel branch by its probability, two strata
-            valid += try_once(d, u0, (a + 0.5) / n, (b + 0.5) / n).weight > 0 ? 1.0 : 0.0;
-      (side == 0 ? valid_from_above_ : valid_from_below_)[k] = std::max(valid / (2.0 * n * n), 1e-6);
+        for (int b = 0; b < n; ++b) {
+          const double u1 = (a + 0.5) / n, u2 = (b + 0.5) / n;
+          const Incidence in = incidence(d, u1, u2);
+          if (in.ci <= 0) continue;
+          const double F = fresnel_dielectric(in.ci, in.eta);
+          if (try_once(d, 0.0, u1, u2).weight > 0) valid += F;          // u0 = 0 < F: the reflection
+          if (try_once(d, 1.0, u1, u2).weight > 0) valid += 1.0 - F;    // u0 = 1 >= F: the refraction
+        }
+      (side == 0 ? valid_from_above_ : valid_from_below_)[k] = std::max(valid / (double(n) * n), 1e-6);
     }
 }
 

@@ -102,6 +102,36 @@ TEST(LayeredInterface, RoughInterfaceIsLosslessAndKeepsSides) {
     }
 }
 
+// V(d), the probability that one rough sample from travel direction d is valid, which the
+// reflection BRDF and the next-event connection divide by: against a Monte Carlo count of valid
+// single tries (the Fresnel branch drawn by its probability), from both sides, near grazing too
+// (where reflections into the wrong side are common and the branch's weight matters most).
+TEST(LayeredInterface, RoughValidFractionIsTheProbabilityOfAValidTry) {
+  DielectricInterface rough(0.4, 1.0, 1.33);
+  for (double theta : {0.0, 40.0, 70.0, 80.0, 86.0})
+    for (bool from_below : {false, true}) {
+      double t = theta * kPi / 180;
+      glm::dvec3 d(std::sin(t), 0, from_below ? std::cos(t) : -std::cos(t));
+      Rng rng(7, uint64_t(theta * 10 + from_below));
+      // scatter() retries invalid tries: the tries it needs are geometric with mean 1 / V.
+      const int n = 100000;
+      long long tries = 0;
+      for (int i = 0; i < n; ++i) {
+        glm::dvec3 dd = d;
+        struct Counting {
+          Rng& r;
+          long long& calls;
+          double next_double() { ++calls; return r.next_double(); }
+        } counting{rng, tries};
+        rough.scatter(dd, counting);
+      }
+      const double V_mc = double(n) / (double(tries) / 3.0);  // three random numbers per try
+      const double se = V_mc * std::sqrt((1.0 - V_mc) / n);
+      EXPECT_NEAR(rough.valid_fraction(d), V_mc, 4 * se + 0.003)
+          << "theta " << theta << (from_below ? " from below" : " from above");
+    }
+}
+
 class LayeredCheck : public ::testing::TestWithParam<const char*> {};
 
 TEST_P(LayeredCheck, AgreesWithClosedForm) {
