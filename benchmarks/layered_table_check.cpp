@@ -7,7 +7,8 @@
 //   averaged over the light's azimuth, and the walk at light azimuths 0, 90 and 180 degrees from
 //   the viewer's (what the azimuth average gives up);
 // - the directional diffuse reflectance (continuation weights) at the same wavelengths.
-//   usage: layered_table_check [--samples N] [--photons N] [--presets a,b,...]
+//   usage: layered_table_check [--samples N] [--photons N] [--similarity N] [--presets a,b,...]
+// (--similarity sets the material's table_similarity_after; 0 = the exact phase in the fill)
 #include <cmath>
 #include <cstdio>
 #include <sstream>
@@ -31,9 +32,12 @@ using test::Bench;
 using test::Mean;
 using test::direction;
 
+int g_similarity = -1;
+
 std::unique_ptr<Bench> bench(const std::string& preset, const char* transport, int photons) {
   json m = {{"type", "layered_tissue"}, {"preset", preset}, {"transport", transport}};
   if (photons > 0) m["table_photons"] = photons;
+  if (g_similarity >= 0) m["table_similarity_after"] = g_similarity;
   json j = {{"format", "oralfluor-scene"}, {"version", 1},
             {"integrator", {{"wavelengths", {{"min_nm", 350}, {"max_nm", 750}, {"step_nm", 5}}},
                             {"output_bands", {{"min_nm", 370}, {"max_nm", 720}, {"step_nm", 10}}}}},
@@ -136,6 +140,7 @@ int main(int argc, char** argv) {
     std::string a = argv[i];
     if (a == "--samples" && i + 1 < argc) samples = std::stoll(argv[++i]);
     else if (a == "--photons" && i + 1 < argc) photons = std::stoi(argv[++i]);
+    else if (a == "--similarity" && i + 1 < argc) g_similarity = std::stoi(argv[++i]);
     else if (a == "--presets" && i + 1 < argc) presets = split(argv[++i]);
   }
   const std::pair<double, double> dirs[] = {{0.9, 0.7}, {0.5, 0.85}, {0.3, 0.5}};

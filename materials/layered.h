@@ -65,6 +65,7 @@ struct LayerStack {
   double below_ior = 1.0;         // kOpen only
   StackTransport transport = StackTransport::kTable;
   int table_photons = 0;          // walks per incidence cosine and wavelength group; 0 = the default
+  int table_similarity_after = -1; // collisions before the table's walks scatter by similarity; 0 = never, -1 = the default
 };
 
 }  // namespace ofl

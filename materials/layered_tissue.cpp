@@ -12,6 +12,8 @@
 //                                    (renderer/render/stack_response.h); walk: the random walk at every
 //                                    shading point (the reference)
 //   "table_photons": 2000            walks per incidence cosine and wavelength group filling the table
+//   "table_similarity_after": 60     collisions after which the table's walks scatter isotropically with
+//                                    mus (1 - g) (the similarity relation); 0 = the exact phase throughout
 //   "bottom": "semi_infinite" | {"type": "open", "ior": 1.0}
 //           | {"type": "base", "reflectance": <spectrum>, "fluorophores": [<surface fluorophore>]}
 // A layer:
@@ -250,7 +252,8 @@ nlohmann::json merged_document(const JsonNode& n) {
 }
 
 void parse_stack(const JsonNode& m, Material& out, MaterialContext& ctx) {
-  m.check_keys({"type", "coating", "ambient_ior", "layers", "bottom", "transport", "table_photons"});
+  m.check_keys({"type", "coating", "ambient_ior", "layers", "bottom", "transport", "table_photons",
+                "table_similarity_after"});
   LayerStack& st = out.stack;
   st.enabled = true;
   if (auto t = m.find("transport")) {
@@ -260,6 +263,11 @@ void parse_stack(const JsonNode& m, Material& out, MaterialContext& ctx) {
     else t->fail("expected \"table\" or \"walk\"");
   }
   if (auto t = m.find("table_photons")) st.table_photons = int(t->number(100.0, 1e7));
+  if (auto t = m.find("table_similarity_after")) {
+    double v = t->number(0.0, 1e6);
+    if (v != std::floor(v)) t->fail("expected a whole number of collisions (0 = never)");
+    st.table_similarity_after = int(v);
+  }
   st.ambient_ior = m.number_or("ambient_ior", 1.0, 1.0, 3.0);
   if (auto c = m.find("coating"); c && !(c->raw().is_boolean() && !c->boolean())) {
     if (c->raw().is_boolean()) c->fail("give the coating as an object {\"ior\", \"roughness\", \"thickness_mm\"} or false");

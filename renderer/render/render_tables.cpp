@@ -28,6 +28,7 @@ void build_stack_responses(const Scene& sc, RenderTables& rt) {
     if (stack.table_photons > 0) o.photons = stack.table_photons;
     o.used_bins = used;
     o.cache_dir = default_stack_cache_dir();
+    if (stack.table_similarity_after >= 0) o.similarity_after = stack.table_similarity_after;
     o.label = sc.materials[k].name;
     auto r = build_stack_response(t.stack, t, rt.n, rt.light_shape, o);
     for (const std::string& w : r->warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());

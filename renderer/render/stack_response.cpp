@@ -114,7 +114,7 @@ void run_job(const StackTables& st, const MaterialTables& mt, int n, const Depth
   const int B = bins.size(), N = opt.nodes;
   std::vector<double> tally(size_t(count) * B, 0.0), exits(size_t(count) * N, 0.0);
   FluenceTally visitor{bins, tally.data()};
-  StackWalker walker(st, mt, n, WalkMode::kImportance);
+  const StackWalker walker = StackWalker(st, mt, n, WalkMode::kImportance).with_similarity_after(opt.similarity_after);
   const StackPointFactors fac;
   const uint64_t job = uint64_t(node) * 4096 + uint64_t(group);
   for (int p = 0; p < opt.photons; ++p) {

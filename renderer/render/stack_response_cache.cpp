@@ -76,6 +76,7 @@ std::string stack_response_key(const StackTables& st, const MaterialTables& mt, 
   f.value(opt.photons);
   f.value(opt.symmetrize);
   f.value(opt.seed);
+  f.value(opt.similarity_after);
   f.value(opt.used_bins > 0 ? std::min(opt.used_bins, n) : n);
   f.value(st.ambient_ior);
   f.value(st.top.alpha());

@@ -51,7 +51,8 @@ StackWalker::Boundary StackWalker::cross(WalkState& s, WalkLanes& lanes, Rng& rn
   return Boundary::kContinue;
 }
 
-void StackWalker::scatter_lanes(WalkState& s, WalkLanes& lanes, const LaneCoefficients& c, const float* fac, Rng& rng) const {
+void StackWalker::scatter_lanes(WalkState& s, WalkLanes& lanes, const LaneCoefficients& c, const float* fac, double g,
+                                Rng& rng) const {
   const StackLayerTables& L = st_.layers[s.layer];
   bool fluor[kWalkLanes] = {};
   int active = 0, reradiated = 0;
@@ -71,8 +72,8 @@ void StackWalker::scatter_lanes(WalkState& s, WalkLanes& lanes, const LaneCoeffi
   // One new direction for all lanes from the mixture of the lobes the lanes chose.
   const double p_iso = double(reradiated) / active;
   glm::dvec3 d = rng.next_double() < p_iso ? sample_uniform_sphere(rng.next_double(), rng.next_double())
-                                           : sample_hg(L.g, s.d, rng.next_double(), rng.next_double());
-  const double hg = hg_phase(L.g, glm::dot(d, s.d));
+                                           : sample_hg(g, s.d, rng.next_double(), rng.next_double());
+  const double hg = hg_phase(g, glm::dot(d, s.d));
   const double iso = 1.0 / (4.0 * kPi);
   const double pdf = p_iso * iso + (1.0 - p_iso) * hg;
   for (int k = 0; k < lanes.count; ++k) {

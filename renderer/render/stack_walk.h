@@ -165,13 +165,24 @@ class StackWalker {
     w.reradiate_ = false;
     return w;
   }
+  // A walker that, after `collisions` collisions (0: never), scatters by the similarity relation:
+  // mus -> mus (1 - g) and g -> 0 (same transport mean free path, isotropic). A direction has no
+  // memory left after a few times 1 / (1 - g) collisions, so quantities averaged over directions
+  // deep in the walk (the table's depth-resolved fluence and exits) barely change, while a walk in
+  // a strongly forward-scattering stroma takes about (1 - g) as many collisions. For the table's
+  // fill only (stack_response.cpp); the render-time walk and the MCML cases use the exact phase.
+  StackWalker with_similarity_after(int collisions) const {
+    StackWalker w = *this;
+    w.similarity_after_ = collisions;
+    return w;
+  }
 
  private:
   enum class Boundary { kContinue, kExitTop, kExitBottom, kLost };
   Boundary cross(WalkState& s, WalkLanes& lanes, Rng& rng, glm::dvec3* exit_dir) const;
   template <class Visitor>
   bool base_vertex(WalkState& s, WalkLanes& lanes, Rng& rng, Visitor& v) const;
-  void scatter_lanes(WalkState& s, WalkLanes& lanes, const LaneCoefficients& c, const float* fac, Rng& rng) const;
+  void scatter_lanes(WalkState& s, WalkLanes& lanes, const LaneCoefficients& c, const float* fac, double g, Rng& rng) const;
   bool roulette(WalkLanes& lanes, float w_ref, Rng& rng) const;
 
   const StackTables& st_;
@@ -179,6 +190,7 @@ class StackWalker {
   int n_;
   WalkMode mode_;
   bool reradiate_ = true;
+  int similarity_after_ = 0;
 };
 
 template <class Visitor>
@@ -196,6 +208,13 @@ WalkResult StackWalker::walk(WalkState& s, WalkLanes& lanes, const StackPointFac
     if (!L.clear) {
       s.turbid = true;
       lane_coefficients(L, f, lanes, emit, c);
+      const bool similar = similarity_after_ > 0 && s.collisions >= similarity_after_ && L.g != 0;
+      if (similar)
+        for (int k = 0; k < lanes.count; ++k) {
+          const float forward = c.mus[k] * float(L.g);
+          c.mus[k] -= forward;
+          c.mut[k] -= forward;
+        }
       // Pick a lane in proportion to its weight and sample its exponential.
       float wsum = 0;
       for (int k = 0; k < lanes.count; ++k) wsum += lanes.w[k];
@@ -220,7 +239,7 @@ WalkResult StackWalker::walk(WalkState& s, WalkLanes& lanes, const StackPointFac
         s.depth = std::clamp(s.depth, L.top, L.bottom);
         ++s.collisions;
         v.collision(s, c, lanes);
-        scatter_lanes(s, lanes, c, f, rng);
+        scatter_lanes(s, lanes, c, f, similar ? 0.0 : L.g, rng);
         s.direct = true;
         if (s.collisions >= kMaxWalkCollisions) { r.end = WalkEnd::kTruncated; break; }
         if (!roulette(lanes, w_ref, rng)) { r.end = WalkEnd::kAbsorbed; break; }
