@@ -61,13 +61,18 @@ TEST(DiagnoseIndependent, EmissionShiftAndAxisShiftAreSeparateCauses) {
     EXPECT_EQ(r.first(), "emission_shift") << r.all();
     if (r.first() == "emission_shift") EXPECT_NEAR(r.estimate("delta_nm"), m, 0.3) << r.all();
   }
-  // The axis shift is named as such, not as an emission shift. Its value is off by 0.5 nm here
-  // (the edge cause takes up the generator's small edge mismatch at the second step, and the two
-  // trade off): the issue's 0.3 nm is met for the emission shift, not yet for the axis shift.
+  // One fluorophore's shift is that fluorophore's, with its value.
+  {
+    auto data = make("emission_shift:FAD", 26, -3.0);
+    Outcome r = diagnose_independent(data);
+    EXPECT_EQ(r.first(), "emission_shift:FAD") << r.all();
+    if (r.first() == "emission_shift:FAD") EXPECT_NEAR(r.estimate("delta_nm"), -3.0, 0.3) << r.all();
+  }
+  // The axis shift is named as such, not as an emission shift, with its value.
   auto data = make("wavelength_shift", 22, 1.5);
   Outcome r = diagnose_independent(data);
   EXPECT_EQ(r.first(), "wavelength_shift") << r.all();
-  if (r.first() == "wavelength_shift") EXPECT_NEAR(r.estimate("delta_nm"), 1.5, 0.6) << r.all();
+  if (r.first() == "wavelength_shift") EXPECT_NEAR(r.estimate("delta_nm"), 1.5, 0.3) << r.all();
 }
 
 TEST(DiagnoseIndependent, OffsetIsNamedAloneAndItsSizeRecovered) {
@@ -77,9 +82,9 @@ TEST(DiagnoseIndependent, OffsetIsNamedAloneAndItsSizeRecovered) {
   EXPECT_EQ(r.d.causes.size(), 1u) << r.all();
   // The generator's offset is a fraction of the signal before the offset; diagnose reports it as a
   // fraction of the mean of everything else it predicts (the same quantity).
-  // Measured: 0.029 for 0.04 (the fluorophore amplitudes absorb a part of a flat offset). The
-  // issue asks for 10 %; this asserts what is achieved (30 %) so that it cannot get worse unseen.
-  if (r.first() == "stray_light") EXPECT_NEAR(r.estimate("fraction"), 0.04, 0.012) << r.all();
+  // Within the issue's 10 %. (On a 2 nm model grid it was 0.029: the long-pass edge, interpolated
+  // from a grid coarser than its transition, was made up for by the offset; docs/diagnose.md.)
+  if (r.first() == "stray_light") EXPECT_NEAR(r.estimate("fraction"), 0.04, 0.004) << r.all();
 }
 
 TEST(DiagnoseIndependent, ExcitationLeakIsNamedFirstWithItsSize) {
