@@ -48,7 +48,7 @@ struct StackResponseOptions {
   int used_bins = 0;      // bins from this one up are not walked (the film never samples them); 0 = all
   // After this many collisions a walk scatters by the similarity relation (isotropic, mus (1 - g);
   // StackWalker::with_similarity_after); 0 = the exact phase function throughout. At 60 the fill is
-  // 3.5x faster and the table moves by at most 1.1 % (benchmarks/results.d/40_layered_cost.md).
+  // 3.1-3.6x faster and the table moves by at most 1.3 % (benchmarks/results.d/40_layered_cost.md).
   int similarity_after = 60;
   // The on-disk cache folder (renderer/render/stack_response_cache.h); empty: no cache.
   std::filesystem::path cache_dir;
