@@ -3,6 +3,8 @@
 // Lambertian under a film, the thin-layer limit), every MCML slab, and input errors.
 #include <gtest/gtest.h>
 
+#include <cstdlib>
+
 #include <cmath>
 
 #include <glm/geometric.hpp>
@@ -261,6 +263,10 @@ TEST(LayeredRender, BitIdenticalWithOneAndTwoThreads) {
                                    {"scattering", {{"g", 0.9}, {"mus_prime_per_mm", {{"a", 2}, {"b", 1.2}}}}},
                                    {"fluorophores", {{{"name", "collagen"}, {"mua_per_mm", 0.2}, {"quantum_yield", 0.1}}}}}}}};
   // Both transports: the table is filled by walks seeded per (node, wavelength group), not per thread.
+  // The on-disk cache is off here, so that each render fills its table with its own thread count.
+  const char* cache = std::getenv("OFL_CACHE_DIR");
+  const std::string saved = cache ? cache : "";
+  ::setenv("OFL_CACHE_DIR", "off", 1);
   for (const char* transport : {"walk", "table"}) {
     m["transport"] = transport;
     m["table_photons"] = 500;
@@ -279,4 +285,6 @@ TEST(LayeredRender, BitIdenticalWithOneAndTwoThreads) {
     for (float v : a) sum += v;
     EXPECT_GT(sum, 0) << transport;
   }
+  if (cache) ::setenv("OFL_CACHE_DIR", saved.c_str(), 1);
+  else ::unsetenv("OFL_CACHE_DIR");
 }
