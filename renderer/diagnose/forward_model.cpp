@@ -46,11 +46,18 @@ std::string fmt(const char* f, double v) {
 }
 
 // Mean and standard error over items of one named local quantity (items without it are skipped).
-std::pair<double, double> mean_se(const std::vector<ItemFit>& fits, const std::string& key, bool log10_of = false) {
+// Mean and standard error of a per-item quantity over the items that have it (and, with `when`,
+// whose `when` quantity is at least `at_least`).
+std::pair<double, double> mean_se(const std::vector<ItemFit>& fits, const std::string& key, bool log10_of = false,
+                                  const std::string& when = "", double at_least = 0) {
   std::vector<double> v;
   for (auto& f : fits) {
     auto it = f.locals.find(key);
     if (it == f.locals.end()) continue;
+    if (!when.empty()) {
+      auto w = f.locals.find(when);
+      if (w == f.locals.end() || !(w->second >= at_least)) continue;
+    }
     double x = it->second;
     if (log10_of) {
       if (!(x > 0)) continue;
@@ -528,7 +535,10 @@ std::vector<DerivedParam> SpectraProblem::derived_params(const CandidateSpec& c,
       break;
     }
     case SpectraCause::kLeak: {
-      auto [m, se] = mean_se(fits, "leak_ratio", true);
+      // Over the spectra where the leak carries at least 0.5 % of the signal: elsewhere (an LED
+      // whose light the long-pass blocks entirely) its amplitude is not determined, and a tiny
+      // column with an arbitrary amplitude would pull the mean of the logarithms anywhere.
+      auto [m, se] = mean_se(fits, "leak_ratio", true, "fraction:longpass_leak", 0.005);
       d.push_back({"effective_od", "decadic (tissue reflectance included)", -m, se});
       auto [f, fse] = mean_se(fits, "fraction:longpass_leak");
       d.push_back({"mean_fraction", "of the predicted signal", f, fse});
