@@ -92,7 +92,7 @@ inline SpectraModel independent_model() {
   m.fluorophores = {"collagen", "NADH", "FAD"};
   m.fit_min_nm = 470;
   m.fit_max_nm = 745;
-  m.grid_step_nm = 1;  // finer than the long-pass edge's scale (5 nm / 4.39): docs/diagnose.md "Model grid"
+  m.grid_step_nm = 0.5;  // half the long-pass edge's scale (5 nm / 4.39) or less: docs/diagnose.md "Model grid"
   m.candidates.extra_from = {"chlorophyll_a", "keratin", "porphyrin_bacterial"};
   return m;
 }

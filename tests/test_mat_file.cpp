@@ -110,6 +110,17 @@ TEST(MatFile, Mat4IsReadAndItsSizesAreCheckedBeforeLibmatio) {
   std::string e = input_error_of([&] { read_mat_file(name); });
   EXPECT_NE(e.find(name.string() + ": variable 1: name of 1872113791 bytes but only 29 bytes of the file are left"),
             std::string::npos) << e;
+  // fuzz_mat (2026-11-26): a type word that must be byte-swapped (00 00 00 0a: type 10, machine
+  // digit 0 = little-endian) before a name length 00 00 00 69 that libmatio then reads
+  // little-endian: 1.76 GB allocated from a 150-byte file (regressions/mat/mat4_swapped_type_1.7GB.mat).
+  auto swapped = tmp_dir() / "v4_swapped.mat";
+  {
+    std::string b = std::string("\0\0\0\x0a", 4) + std::string(12, '\0') + std::string("\0\0\0\x69", 4) + std::string(130, 'i');
+    std::ofstream(swapped, std::ios::binary) << b;
+  }
+  e = input_error_of([&] { read_mat_file(swapped); });
+  EXPECT_NE(e.find(swapped.string() + ": variable 1: name of 1761607680 bytes but only 130 bytes of the file are left"),
+            std::string::npos) << e;
   // The second variable claims 100000 x 100000 doubles behind 8 bytes.
   auto data = tmp_dir() / "v4_data.mat";
   std::ofstream(data, std::ios::binary) << mat4_variable("wave", 1, 3, {400, 410, 420}) + mat4_variable("k", 100000, 100000, {1});

@@ -71,15 +71,16 @@ void parse_selection(const JsonNode& r, DiagnoseModelFile& m) {
 // The model is evaluated on its grid and interpolated linearly to the recorded wavelengths; across
 // an analytic long-pass edge steeper than the grid, that interpolation misplaces the edge (20 % at
 // 3.5 nm below a 5 nm-wide edge on a 2 nm grid), and the fit then moves emission shifts (+0.5 nm)
-// and offsets (a third) to make up for it (docs/diagnose.md, "Model grid").
+// and offsets (a third) to make up for it; the leaked excitation light (LED times the blocked
+// fraction) needs half the edge's scale (docs/diagnose.md, "Model grid").
 void warn_if_grid_misses_the_edge(const JsonNode& r, const SpectraModel& s) {
   if (!s.emission_filter || s.emission_filter->kind == OpticalFilter::Kind::kMeasured) return;
   const double scale = s.emission_filter->width_nm / (2.0 * std::log(9.0));  // the logistic's scale
-  if (s.grid_step_nm > scale * 1.0001)
+  if (s.grid_step_nm > 0.5 * scale * 1.0001)
     std::fprintf(stderr,
                  "warning: %s: /grid_step_nm: %g nm is coarser than the emission filter's edge (10-90 %% over %g nm, "
-                 "scale %.2f nm): the edge is interpolated with errors that bias shifts and offsets; use %.2g nm or less\n",
-                 r.file().c_str(), s.grid_step_nm, s.emission_filter->width_nm, scale, scale);
+                 "scale %.2f nm): the edge is interpolated with errors that bias shifts, offsets and leaks; use %.2g nm or less\n",
+                 r.file().c_str(), s.grid_step_nm, s.emission_filter->width_nm, scale, 0.5 * scale);
 }
 
 void parse_spectra(const JsonNode& r, DiagnoseModelFile& m) {
@@ -95,7 +96,7 @@ void parse_spectra(const JsonNode& r, DiagnoseModelFile& m) {
     s.fit_min_nm = v[0];
     s.fit_max_nm = v[1];
   }
-  s.grid_step_nm = r.number_or("grid_step_nm", 1.0, 0.1, 50.0);
+  s.grid_step_nm = r.number_or("grid_step_nm", 0.5, 0.1, 50.0);
   s.instrument_fwhm_nm = r.number_or("instrument_fwhm_nm", 0.0, 0.0, 100.0);
   if (auto f = r.find("fluorophores")) s.fluorophores = strings(*f);
   JsonNode L = r.at("lights");

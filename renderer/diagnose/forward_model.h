@@ -43,7 +43,7 @@ struct SpectraModel {
   std::optional<OpticalFilter> excitation_filter;  // applied to the light spectra
   LeakSource leak = LeakSource::kComputed;
   double fit_min_nm = 0, fit_max_nm = 1e9;
-  double grid_step_nm = 1;
+  double grid_step_nm = 0.5;
   double instrument_fwhm_nm = 0;     // bandwidth already assumed by the baseline
   SpectraCandidateOptions candidates;
   std::filesystem::path base_dir;    // for fluorophore files named relative to the model

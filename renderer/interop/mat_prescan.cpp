@@ -2,6 +2,7 @@
 
 #include <zlib.h>
 
+#include <bit>
 #include <cstdint>
 #include <cstring>
 #include <fstream>
@@ -208,9 +209,15 @@ void check_mat4_sizes(const std::filesystem::path& file) {
   const uint64_t esize[6] = {8, 4, 4, 2, 2, 1};
   uint64_t pos = 0;
   for (int index = 1; size - pos >= 20; ++index) {
-    bool swap = !mat4_type_ok(load_u32(d + pos, false));
-    uint32_t type = load_u32(d + pos, swap);
-    if (!mat4_type_ok(type)) return;  // not MAT 4: libmatio says what it is not
+    // As libmatio reads it: the type word, byte-swapped if it is not in 0..4052; then the byte order
+    // of every other field from the type's machine digit M (0: little-endian, 1: big-endian), not
+    // from whether the type needed swapping (a fuzzed header whose type needed swapping but says
+    // M = 0 had its 1.7 GB name length read little-endian by libmatio and allocated).
+    uint32_t type = load_u32(d + pos, false);
+    if (type > 4052) type = __builtin_bswap32(type);
+    if (type > 4052 || !mat4_type_ok(type) || type / 1000 > 1) return;  // not MAT 4 libmatio reads: it says so itself
+    const bool big_endian_fields = type / 1000 == 1;
+    const bool swap = big_endian_fields != (std::endian::native == std::endian::big);
     const uint64_t rows = load_u32(d + pos + 4, swap), cols = load_u32(d + pos + 8, swap);
     const uint64_t parts = load_u32(d + pos + 12, swap) ? 2 : 1, name_len = load_u32(d + pos + 16, swap);
     const std::string field = "variable " + std::to_string(index);
