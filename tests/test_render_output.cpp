@@ -12,7 +12,9 @@
 #include <sstream>
 #include "cli_runner.h"
 #include <filesystem>
+#include <fstream>
 
+#include "renderer/core/error.h"
 #include "renderer/core/json_node.h"
 #include "renderer/image/spectral_exr.h"
 #include "renderer/render/render_job.h"
@@ -55,6 +57,43 @@ TEST(Render, DifferentSeedsGiveDifferentNoise) {
   sc.integrator.seed = 99;
   RenderResult b = render(sc);
   EXPECT_NE(0, std::memcmp(a.image.data.data(), b.image.data.data(), a.image.data.size() * sizeof(float)));
+}
+
+// A chunk whose size field claims more than the file holds is refused before OpenEXR allocates it
+// (fuzz_spectral_exr: 8 kB files with chunks of 1.6-1.8 GB; tests/fuzz/regressions/spectral_exr),
+// and the unmodified file (ZIP chunks of 16 lines, with the table intact) still reads.
+TEST(SpectralExr, ChunkSizesAreCheckedAgainstTheFile) {
+  Scene sc = small_scene(1);
+  RenderResult r = render(sc);
+  const std::string bytes = spectral_exr_bytes(r.image);
+  auto dir = std::filesystem::temp_directory_path();
+  auto good = dir / "ofl_chunks_good.exr", bad = dir / "ofl_chunks_bad.exr";
+  { std::ofstream(good, std::ios::binary) << bytes; }
+  SpectralImage back = read_spectral_exr(good);
+  EXPECT_EQ(back.width, r.image.width);
+  // The first chunk's offset is the first entry of the line offset table, right after the header:
+  // find it as the smallest offset that points inside the file past a run of 8-byte entries.
+  Imf::InputFile in(good.c_str());
+  const int chunks = (r.image.height + 15) / 16;
+  size_t table = 0;
+  for (size_t p = 8; p + 8 * size_t(chunks) <= bytes.size(); ++p) {
+    uint64_t first = 0;
+    std::memcpy(&first, bytes.data() + p, 8);
+    if (first == p + 8 * size_t(chunks)) { table = p; break; }
+  }
+  ASSERT_GT(table, 0u) << "no line offset table found";
+  std::string b = bytes;
+  const uint32_t huge = 1768776960u;  // the fuzzer's size
+  std::memcpy(&b[table + 8 * size_t(chunks) + 4], &huge, 4);
+  { std::ofstream(bad, std::ios::binary) << b; }
+  try {
+    read_spectral_exr(bad);
+    ADD_FAILURE() << "a chunk of 1.7 GB in a small file was read";
+  } catch (const InputError& e) {
+    EXPECT_NE(e.describe().find(bad.string() + ": chunk 0: claims 1768776960 bytes of pixel data"), std::string::npos) << e.describe();
+  }
+  std::filesystem::remove(good);
+  std::filesystem::remove(bad);
 }
 
 TEST(SpectralExr, ChannelNamesAndAttributesExactly) {
