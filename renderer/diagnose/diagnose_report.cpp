@@ -78,6 +78,33 @@ std::string model_name(const DiagnoseProblem& p, const Diagnosis& d, size_t upto
   return s;
 }
 
+// Depth against a surface filter (docs/diagnose.md, "Layered tissue"): the held-out RMSE of the
+// baseline and of each of blood_absorption and layered_tissue alone on it (step 1), per site and
+// excitation. Empty when step 1 did not try both.
+struct DepthRow {
+  std::string site, light;
+  int items = 0;
+  double baseline = 0, blood = 0, layered = 0;
+};
+std::vector<DepthRow> depth_comparison(const DiagnoseProblem& p, const Diagnosis& d) {
+  if (d.steps.empty()) return {};
+  const CandidateTrial *blood = nullptr, *layered = nullptr;
+  for (auto& t : d.steps[0]) {
+    if (p.candidates()[t.candidate].id == "blood_absorption") blood = &t;
+    if (p.candidates()[t.candidate].id == "layered_tissue") layered = &t;
+  }
+  if (!blood || !layered || blood->cv.heldout.empty() || layered->cv.heldout.empty()) return {};
+  std::map<std::pair<std::string, std::string>, std::vector<int>> cells;
+  for (int i = 0; i < p.num_items(); ++i) cells[{p.condition(i, "site"), p.condition(i, "light_nm")}].push_back(i);
+  std::vector<DepthRow> rows;
+  for (auto& [key, items] : cells) {
+    GroupGain b = group_gain(p, d.baseline_cv, blood->cv, items, key.first);
+    GroupGain l = group_gain(p, d.baseline_cv, layered->cv, items, key.first);
+    rows.push_back({key.first, key.second, int(items.size()), b.rmse_before, b.rmse_after, l.rmse_after});
+  }
+  return rows;
+}
+
 }  // namespace
 
 nlohmann::json diagnosis_json(const DiagnoseProblem& p, const Diagnosis& d, const ReportContext& ctx) {
@@ -165,6 +192,13 @@ nlohmann::json diagnosis_json(const DiagnoseProblem& p, const Diagnosis& d, cons
   j["candidates_tried"] = tried;
   if (!d.options.report_by.empty()) j["by_" + d.options.report_by] = gains_json(d.by_report);
   j["by_fold"] = gains_json(d.by_fold);
+  if (auto rows = depth_comparison(p, d); !rows.empty()) {
+    nlohmann::json t = nlohmann::json::array();
+    for (auto& r : rows)
+      t.push_back({{"site", r.site}, {"light_nm", r.light}, {"items", r.items}, {"baseline", r.baseline},
+                   {"blood_absorption", r.blood}, {"layered_tissue", r.layered}});
+    j["layered_vs_blood_heldout_rmse"] = t;
+  }
   // Mean share of each baseline column in the final full-data fit (spectra: fluorophores, leak).
   std::vector<int> all(p.num_items());
   for (int i = 0; i < p.num_items(); ++i) all[i] = i;
@@ -216,6 +250,16 @@ std::string diagnosis_text(const DiagnoseProblem& p, const Diagnosis& d, const R
                     t.accepted ? "accepted" : t.verdict.c_str());
       o << b;
     }
+  if (auto rows = depth_comparison(p, d); !rows.empty()) {
+    o << "\nlayered tissue against the surface blood filter, each alone on the baseline (held-out RMSE):\n";
+    o << "  site        light   items  baseline  blood_absorption  layered_tissue\n";
+    for (auto& r : rows) {
+      char b[200];
+      std::snprintf(b, sizeof b, "  %-10s %6s  %6d  %8.4f  %16.4f  %14.4f\n", r.site.c_str(), r.light.c_str(), r.items, r.baseline,
+                    r.blood, r.layered);
+      o << b;
+    }
+  }
   if (!d.options.report_by.empty()) {
     o << "\nheld-out RMSE by " << d.options.report_by << " (baseline -> extended):\n";
     for (auto& g : d.by_report)

@@ -1,6 +1,7 @@
 #include "renderer/diagnose/forward_model.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -28,6 +29,7 @@ struct SpectraProblem::Effects {
   bool unknown = false;
   double unknown_center = 0, unknown_fwhm = 0;
   std::vector<double> response;  // log-gain at the response knots (empty: none)
+  std::vector<std::array<double, 3>> layered;  // per site: thickness, blood fraction, saturation (empty: none)
 };
 
 namespace {
@@ -221,6 +223,8 @@ SpectraProblem::SpectraProblem(SpectraSet data, SpectraModel model) : data_(std:
     lights_.push_back(std::move(b));
   }
 
+  add_layered_candidate();
+
   for (int i = 0; i < grid_.size(); ++i)
     if (grid_.wavelength(i) >= model_.fit_min_nm && grid_.wavelength(i) <= model_.fit_max_nm && grid_.wavelength(i) >= lo &&
         grid_.wavelength(i) <= hi)
@@ -259,6 +263,11 @@ SpectraProblem::SpectraProblem(SpectraSet data, SpectraModel model) : data_(std:
       it.lo.push_back(a);
       it.w.push_back(std::clamp(x - a, 0.0, 1.0));
     }
+    if (!sites_.empty()) {
+      std::string site = condition(static_cast<int>(items_.size()), model_.layered.site_column);
+      for (size_t q = 0; q < sites_.size(); ++q)
+        if (sites_[q]->site() == site) it.site = static_cast<int>(q);
+    }
     items_.push_back(std::move(it));
   }
 }
@@ -267,6 +276,27 @@ std::string SpectraProblem::condition(int i, const std::string& column) const {
   auto& c = data_.spectra[i].conditions;
   auto it = c.find(column);
   return it == c.end() ? std::string() : it->second;
+}
+
+void SpectraProblem::add_layered_candidate() {
+  const LayeredCauseOptions& o = model_.layered;
+  if (!o.enabled || o.sites.empty()) return;
+  std::vector<std::vector<double>> light_e;
+  for (auto& L : lights_) light_e.push_back(L.e_tail);
+  CandidateSpec c{"layered_tissue", "layered_tissue",
+                  "layered tissue (epithelial thickness, blood volume fraction and saturation per site)", {}, 0, ""};
+  for (auto& spec : o.sites) {
+    sites_.push_back(std::make_shared<LayeredSite>(spec, o, grid_, eem_names_, eems_, light_e));
+    const std::string& s = spec.site;
+    auto& t = o.thickness_mm;
+    auto& b = o.blood_fraction;
+    auto& q = o.saturation;
+    c.params.push_back({"thickness_mm:" + s, "mm", std::clamp(0.25, t.front(), t.back()), t.front(), t.back(), 0.01, {}});
+    c.params.push_back({"blood_fraction:" + s, "volume fraction", std::clamp(0.0125, b.front(), b.back()), b.front(), b.back(), 0.001,
+                        {std::clamp(0.005, b.front(), b.back()), std::clamp(0.03, b.front(), b.back())}});
+    c.params.push_back({"saturation:" + s, "", std::clamp(0.75, q.front(), q.back()), q.front(), q.back(), 0.02, {}});
+  }
+  candidates_.push_back(std::move(c));
 }
 
 SpectraProblem::Effects SpectraProblem::decode(const ModelState& s) const {
@@ -311,6 +341,9 @@ SpectraProblem::Effects SpectraProblem::decode(const ModelState& s) const {
         fx.unknown_fwhm = a.theta[1];
         break;
       case SpectraCause::kResponse: fx.response = a.theta; break;
+      case SpectraCause::kLayered:
+        for (size_t q = 0; q + 2 < a.theta.size(); q += 3) fx.layered.push_back({a.theta[q], a.theta[q + 1], a.theta[q + 2]});
+        break;
     }
   }
   return fx;
@@ -399,7 +432,7 @@ void SpectraProblem::shape_emission(int k, const Effects& fx, std::vector<double
   if (fx.emission_shift != 0) shift_samples(col, grid_.step_nm, fx.emission_shift);
 }
 
-std::vector<std::vector<double>> SpectraProblem::grid_columns(int light, const Effects& fx,
+std::vector<std::vector<double>> SpectraProblem::grid_columns(int light, int site, const Effects& fx,
                                                               std::vector<std::string>* names) const {
   const LightBasis& L = lights_[light];
   const int N = grid_.size();
@@ -426,6 +459,10 @@ std::vector<std::vector<double>> SpectraProblem::grid_columns(int light, const E
       col = L.fluor[k];
     }
     shape_emission(k, fx, col);
+    if (!fx.layered.empty() && site >= 0 && sites_[site]->holds(k)) {
+      auto f = sites_[site]->factor(k, light, fx.layered[site]);
+      for (int i = 0; i < N; ++i) col[i] *= f[i];
+    }
     for (int i = 0; i < N; ++i) col[i] *= tb[i] * tlp[i];
     cols.push_back(std::move(col));
     if (names) names->push_back(eem_names_[k]);
@@ -470,14 +507,15 @@ Eigen::MatrixXd SpectraProblem::sample(const std::vector<std::vector<double>>& c
 std::vector<ItemFit> SpectraProblem::evaluate(const ModelState& state, const std::vector<int>& items) const {
   Effects fx = decode(state);
   std::vector<ItemFit> out(items.size());
-  std::map<int, std::vector<std::vector<double>>> cache;
+  std::map<std::pair<int, int>, std::vector<std::vector<double>>> cache;
   std::vector<std::string> names;
   for (size_t q = 0; q < items.size(); ++q) {
     const Item& it = items_[items[q]];
-    auto c = cache.find(it.light);
+    const std::pair<int, int> key(it.light, fx.layered.empty() ? -1 : it.site);
+    auto c = cache.find(key);
     if (c == cache.end()) {
       std::vector<std::string> nm;
-      c = cache.emplace(it.light, grid_columns(it.light, fx, &nm)).first;
+      c = cache.emplace(key, grid_columns(it.light, key.second, fx, &nm)).first;
       names = nm;
     }
     Eigen::MatrixXd A = sample(c->second, it);
@@ -501,7 +539,7 @@ std::vector<ItemFit> SpectraProblem::evaluate(const ModelState& state, const std
 SpectraProblem::Design SpectraProblem::design(const ModelState& state, int item) const {
   Effects fx = decode(state);
   Design d;
-  auto cols = grid_columns(items_[item].light, fx, &d.names);
+  auto cols = grid_columns(items_[item].light, items_[item].site, fx, &d.names);
   d.A = sample(cols, items_[item]);
   return d;
 }
@@ -618,6 +656,15 @@ std::string SpectraProblem::plain_words(const CandidateSpec& c, const std::vecto
                       "mismatch, not tissue):";
       for (size_t k = 0; k < th.size() && k < knots.size(); ++k)
         s += " " + fmt("%.0f", knots[k]) + " nm x" + fmt("%.3f", std::exp(th[k])) + ";";
+      return s;
+    }
+    case SpectraCause::kLayered: {
+      std::string s = "The tissue is a layered stack whose depth matters: the fluorophores it holds are excited and seen "
+                      "through the blood at their depth, one parameter set per site for all excitations:";
+      for (size_t q = 0; q < sites_.size() && 3 * q + 2 < th.size(); ++q)
+        s += " " + sites_[q]->site() + ": epithelium " + pm(th[3 * q], u[3 * q], "%.3f") + " mm, blood " +
+             pm(100 * th[3 * q + 1], 100 * u[3 * q + 1], "%.2f") + " % by volume at saturation " +
+             pm(th[3 * q + 2], u[3 * q + 2], "%.2f") + ";";
       return s;
     }
     case SpectraCause::kEdge: {

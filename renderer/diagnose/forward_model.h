@@ -11,11 +11,13 @@
 // spectrum's mean radiance over the fit range, so spectra at different LED currents weigh alike.
 #pragma once
 #include <map>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "renderer/diagnose/diagnose_problem.h"
+#include "renderer/diagnose/layered_site.h"
 #include "renderer/diagnose/measurement_set.h"
 #include "renderer/diagnose/model_extensions.h"
 #include "renderer/spectral/eem.h"
@@ -46,6 +48,7 @@ struct SpectraModel {
   double grid_step_nm = 0.5;
   double instrument_fwhm_nm = 0;     // bandwidth already assumed by the baseline
   SpectraCandidateOptions candidates;
+  LayeredCauseOptions layered;       // the layered_tissue cause (off unless the model has the block)
   std::filesystem::path base_dir;    // for fluorophore files named relative to the model
 };
 
@@ -97,10 +100,14 @@ class SpectraProblem : public DiagnoseProblem {
   const std::vector<std::string>& fluorophore_names() const { return eem_names_; }
   const GridEem& fluorophore_eem(int k) const { return eems_[k]; }
   int light_of(int i) const { return items_[i].light; }
+  // The layered_tissue cause's sites (empty when the model has none) and item i's site (-1: none).
+  const std::vector<std::shared_ptr<const LayeredSite>>& layered_sites() const { return sites_; }
+  int site_of(int i) const { return items_[i].site; }
 
  private:
   struct Item {
     int light = -1;
+    int site = -1;           // index into sites_ (layered_tissue), -1 when its site has no stack
     std::vector<double> nm;  // fit wavelengths
     Eigen::VectorXd y;       // measured / mean over the fit range
     double mean = 1;
@@ -115,7 +122,8 @@ class SpectraProblem : public DiagnoseProblem {
   };
   struct Effects;
   Effects decode(const ModelState& s) const;
-  std::vector<std::vector<double>> grid_columns(int light, const Effects& fx, std::vector<std::string>* names) const;
+  std::vector<std::vector<double>> grid_columns(int light, int site, const Effects& fx, std::vector<std::string>* names) const;
+  void add_layered_candidate();
   void longpass(const Effects& fx, std::vector<double>& tlp, std::vector<double>& block) const;
   void add_leak_columns(int light, const Effects& fx, const std::vector<double>& tlp, const std::vector<double>& block,
                         std::vector<std::vector<double>>& cols, std::vector<std::string>* names) const;
@@ -132,6 +140,7 @@ class SpectraProblem : public DiagnoseProblem {
   std::vector<LightBasis> lights_;
   std::vector<Item> items_;
   std::vector<CandidateSpec> candidates_;
+  std::vector<std::shared_ptr<const LayeredSite>> sites_;
   std::vector<int> fit_grid_;  // grid indices inside the fit range (for the stray-light mean)
   SpectraRange range_;         // wavelengths fitted (fit range within the data)
 };

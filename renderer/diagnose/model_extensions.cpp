@@ -193,6 +193,7 @@ SpectraCause spectra_cause(const CandidateSpec& c) {
   if (c.name == "second_band") return SpectraCause::kSecondBand;
   if (c.name == "unknown_band") return SpectraCause::kUnknownBand;
   if (c.name == "instrument_response") return SpectraCause::kResponse;
+  if (c.name == "layered_tissue") return SpectraCause::kLayered;
   throw std::logic_error("not a spectra candidate: " + c.id);
 }
 

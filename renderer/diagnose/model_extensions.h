@@ -18,6 +18,9 @@
 //   unknown_band         an emission band in no library spectrum: Gaussian center_nm, fwhm_nm and
 //                        one amplitude per spectrum (found by a start grid; the free-form shape is
 //                        estimated by unknown_band.h)
+//   layered_tissue       each site's tissue is a layered stack (layered_site.h): per site
+//                        thickness_mm:<site>, blood_fraction:<site>, saturation:<site>; the
+//                        fluorophores the stack holds get depth-resolved columns
 //   instrument_response  the instrument's spectral responsivity is off by a smooth factor:
 //                        piecewise-linear log-gain at knots every ~40 nm over the fit range
 //   bandwidth            the instrument blurs more than stated: global Gaussian fwhm_nm
@@ -42,7 +45,7 @@ namespace ofl {
 
 enum class SpectraCause {
   kBlood, kExtraFluorophore, kShift, kBandwidth, kBroadening, kStray, kLeak, kEdge,
-  kEmissionShift, kFluorShift, kFluorWidth, kFluorWidthEach, kSecondBand, kUnknownBand, kResponse
+  kEmissionShift, kFluorShift, kFluorWidth, kFluorWidthEach, kSecondBand, kUnknownBand, kResponse, kLayered
 };
 enum class CameraCause { kGain, kCrosstalk, kOffset, kNonlinearity, kQeShift, kNirLeak };
 

@@ -30,7 +30,8 @@ RenderResult render(const Scene& scene, const RenderOptions& opt) {
   const uint64_t seed = scene.integrator.seed;
   std::vector<double> sum(size_t(W) * H * B, 0.0);
   bool any_fluor = false;
-  for (auto& m : tables.materials) any_fluor = any_fluor || !m.fluorophores.empty();
+  // Surface fluorophores or a layered stack's (a stack's fluorescence is tallied in the same layer).
+  for (auto& m : tables.materials) any_fluor = any_fluor || !m.fluorophores.empty() || m.stack.fluorescent();
   const bool track_fl = opt.fluorescence_layer && any_fluor;
   std::vector<double> sum_fl(track_fl ? sum.size() : 0, 0.0);
   // Two half-sums (even and odd samples) for the noise estimate.

@@ -107,6 +107,28 @@ struct WalkSums {
   std::vector<double> fluence, exits;
 };
 
+// Photons of one wavelength group entering through the top from `down`, their collisions tallied
+// by `visitor`; `exited(result, lanes)` sees every walk that leaves through the top.
+template <class Exit>
+void launch_group(const StackTables& st, const StackWalker& walker, int first_wl, int count, Rng& rng,
+                  const glm::dvec3& down, FluenceTally& visitor, Exit exited) {
+  InterfaceEvent e = st.top.scatter(down, rng);
+  if (e.weight <= 0 || !e.transmitted) return;  // the top's specular reflection: closed form
+  WalkLanes lanes;
+  lanes.count = count;
+  for (int k = 0; k < count; ++k) {
+    lanes.wl[k] = first_wl + k;
+    lanes.w[k] = float(e.weight);
+  }
+  WalkState s;
+  s.d = e.dir;
+  const StackPointFactors fac;
+  WalkResult res = walker.walk(s, lanes, fac, rng, visitor);
+  if (res.end == WalkEnd::kExitTop && res.dir.z > 0) exited(res, lanes);
+}
+
+glm::dvec3 downward(double mu) { return {-std::sqrt(std::max(0.0, 1.0 - mu * mu)), 0.0, -mu}; }
+
 // The walks of one (node, wavelength group) job.
 void run_job(const StackTables& st, const MaterialTables& mt, int n, const DepthBins& bins, const StackResponseOptions& opt,
              const StackResponse& r, int node, int group, WalkSums& sums) {
@@ -115,27 +137,15 @@ void run_job(const StackTables& st, const MaterialTables& mt, int n, const Depth
   std::vector<double> tally(size_t(count) * B, 0.0), exits(size_t(count) * N, 0.0);
   FluenceTally visitor{bins, tally.data()};
   const StackWalker walker = StackWalker(st, mt, n, WalkMode::kImportance).with_similarity_after(opt.similarity_after);
-  const StackPointFactors fac;
   const uint64_t job = uint64_t(node) * 4096 + uint64_t(group);
   for (int p = 0; p < opt.photons; ++p) {
     Rng rng(opt.seed, Rng::stream_for(job, uint64_t(p)));
     const double mu = launch_cosine(r, node, rng);
-    const glm::dvec3 down(-std::sqrt(1.0 - mu * mu), 0.0, -mu);
-    InterfaceEvent e = st.top.scatter(down, rng);
-    if (e.weight <= 0 || !e.transmitted) continue;  // the top's specular reflection: closed form
-    WalkLanes lanes;
-    lanes.count = count;
-    for (int k = 0; k < count; ++k) {
-      lanes.wl[k] = first_wl + k;
-      lanes.w[k] = float(e.weight);
-    }
-    WalkState s;
-    s.d = e.dir;
-    WalkResult res = walker.walk(s, lanes, fac, rng, visitor);
-    if (res.end != WalkEnd::kExitTop || res.dir.z <= 0) continue;
-    StackResponse::Weights w = r.weights(res.dir.z);
-    for (int k = 0; k < count; ++k)
-      for (int c = 0; c < 2; ++c) exits[size_t(k) * N + w.k[c]] += double(lanes.w[k]) * w.w[c];
+    launch_group(st, walker, first_wl, count, rng, downward(mu), visitor, [&](const WalkResult& res, const WalkLanes& lanes) {
+      StackResponse::Weights w = r.weights(res.dir.z);
+      for (int k = 0; k < count; ++k)
+        for (int c = 0; c < 2; ++c) exits[size_t(k) * N + w.k[c]] += double(lanes.w[k]) * w.w[c];
+    });
   }
   for (int k = 0; k < count; ++k) {
     const int wl = first_wl + k;
@@ -348,6 +358,34 @@ std::shared_ptr<StackResponse> fill_stack_response(const StackTables& st, const 
 }
 
 }  // namespace
+
+StackFluence stack_fluence(const StackTables& st, const MaterialTables& mt, int n, const std::vector<double>& mu,
+                           const StackResponseOptions& opt) {
+  const DepthBins bins(st);
+  StackFluence f;
+  f.n = n;
+  f.mu = mu;
+  f.lo = bins.lo;
+  f.hi = bins.hi;
+  f.layer = bins.layer;
+  const int B = bins.size(), C = int(mu.size());
+  const int used = opt.used_bins > 0 ? std::min(opt.used_bins, n) : n, groups = (used + kWalkLanes - 1) / kWalkLanes;
+  f.phi.assign(size_t(C) * n * B, 0.0);
+  const StackWalker walker = StackWalker(st, mt, n, WalkMode::kImportance).with_similarity_after(opt.similarity_after);
+  tbb::parallel_for(0, C * groups, [&](int job) {
+    const int c = job / groups, group = job % groups;
+    const int first_wl = group * kWalkLanes, count = std::min(kWalkLanes, n - first_wl);
+    std::vector<double> tally(size_t(count) * B, 0.0);
+    FluenceTally visitor{bins, tally.data()};
+    for (int p = 0; p < opt.photons; ++p) {
+      Rng rng(opt.seed, Rng::stream_for(uint64_t(job), uint64_t(p)));
+      launch_group(st, walker, first_wl, count, rng, downward(mu[c]), visitor, [](const WalkResult&, const WalkLanes&) {});
+    }
+    for (int k = 0; k < count; ++k)
+      for (int b = 0; b < B; ++b) f.phi[(size_t(c) * n + first_wl + k) * B + b] = tally[size_t(k) * B + b] / opt.photons;
+  });
+  return f;
+}
 
 std::shared_ptr<const StackResponse> build_stack_response(const StackTables& st, const MaterialTables& mt, int n,
                                                           const std::vector<std::vector<float>>& light_shapes,

@@ -89,6 +89,26 @@ struct StackResponse {
 // Why a stack cannot be tabulated (empty: it can).
 std::string stack_response_unsupported(const StackTables& st, const MaterialTables& mt);
 
+// The stack's depth-resolved fluence for light incident at fixed cosines: what the table's
+// fluorescence is built from, for callers that weight depth themselves (diagnose's layered_tissue
+// cause, renderer/diagnose/layered_site.h). Same walks as the fill (photon mode, entering through the
+// top interface, similarity after opt.similarity_after collisions), launched at exactly mu, seeded
+// by (cosine, wavelength group), so the result does not depend on the number of threads.
+struct StackFluence {
+  int n = 0;                        // wavelength bins
+  std::vector<double> mu;           // incidence cosines
+  std::vector<double> lo, hi;       // depth bins, mm
+  std::vector<int> layer;           // layer of each depth bin
+  // [(c * n + wl) * bins + b]: integral of the fluence over depth bin b, per unit irradiance on the
+  // surface plane at cosine mu[c] (mm; divide by the bin's width for the mean fluence). Bins from
+  // opt.used_bins on are zero.
+  std::vector<double> phi;
+  int bins() const { return int(lo.size()); }
+  const double* at(int c, int wl) const { return &phi[(size_t(c) * n + wl) * bins()]; }
+};
+StackFluence stack_fluence(const StackTables& st, const MaterialTables& mt, int n, const std::vector<double>& mu,
+                           const StackResponseOptions& opt);
+
 std::shared_ptr<const StackResponse> build_stack_response(const StackTables& st, const MaterialTables& mt, int n,
                                                           const std::vector<std::vector<float>>& light_shapes,
                                                           const StackResponseOptions& opt);
