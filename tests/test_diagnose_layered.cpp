@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <random>
 
 #include "renderer/diagnose/cross_validation.h"
@@ -54,6 +55,9 @@ MeasuredSpectrum spectrum(const std::string& subject, const std::string& light_n
   return m;
 }
 
+// Walks per node and wavelength group of the rendered stacks' tables (see the first test).
+constexpr int kTablePhotons = 12000;
+
 int candidate(const SpectraProblem& p, const std::string& id) {
   for (size_t c = 0; c < p.candidates().size(); ++c)
     if (p.candidates()[c].id == id) return int(c);
@@ -66,8 +70,10 @@ TEST(DiagnoseLayered, ColumnsAreTheRenderedStack) {
   // The diagnosis' depth-resolved columns at the preset's own concentrations (amplitude 1 each)
   // against a flat patch of the same stack rendered through the layered table, under each LED:
   // same absolute level (white-target units) and shape. The diagnosis averages the fluence over
-  // each LED band (Kasha) and uses two fixed cosines; the render uses the table's twelve nodes.
-  const std::array<double, 3> theta = {0.15, 0.03, 0.8};
+  // each LED band (Kasha) and uses two fixed cosines; the render uses the table's twelve nodes. The
+  // table is filled with kTablePhotons walks: at the default 2000 its Monte Carlo noise, shared by
+  // the eight wavelengths of a walk group, puts 2-4 % bumps 30 nm wide into the render.
+  const std::array<double, 3> theta = {0.175, 0.03, 0.8};
   SpectraModel model = layered_model({theta[0]}, {theta[1]}, {theta[2]});
   model.layered.photons = 6000;
   SpectraSet set;
@@ -78,8 +84,9 @@ TEST(DiagnoseLayered, ColumnsAreTheRenderedStack) {
   const int lc = candidate(p, "layered_tissue");
   ASSERT_GE(lc, 0);
   ModelState state;
-  state.causes.push_back({lc, {theta[0], theta[1], theta[2]}});
+  state.causes.push_back({lc, {theta[0], theta[1] * theta[2], theta[1] * (1 - theta[2])}});  // thickness, oxy, deoxy
   nlohmann::json mat = p.layered_sites()[0]->material(theta);
+  mat["table_photons"] = kTablePhotons;
   PatchRenderOptions o;
   o.resolution = 16;
   o.spp = 512;
@@ -88,10 +95,76 @@ TEST(DiagnoseLayered, ColumnsAreTheRenderedStack) {
     Eigen::VectorXd model_y = Eigen::VectorXd::Zero(d.A.rows());
     for (Eigen::Index k = 0; k < d.A.cols(); ++k) model_y += d.A.col(k);
     Eigen::VectorXd rendered = p.instrument_design(ModelState{}, i, render_item_patch(p, i, mat, o)).A.col(0);
-    double rel = (rendered - model_y).norm() / model_y.norm();
-    double ratio = rendered.sum() / model_y.sum();
-    std::printf("%s: rendered / diagnosis %.4f, relative RMS difference %.4f\n", p.item_label(i).c_str(), ratio, rel);
-    EXPECT_NEAR(ratio, 1.0, 0.04) << p.item_label(i);  // measured 1.011, 1.013, 1.023
-    EXPECT_LT(rel, 0.04) << p.item_label(i);             // measured 0.016, 0.017, 0.027
+    const double level = rendered.sum() / model_y.sum();
+    const double shape = (rendered / level - model_y).norm() / model_y.norm();
+    if (std::getenv("OFL_DUMP"))
+      for (Eigen::Index r = 0; r < rendered.size(); r += 5) std::printf("  %.0f %.4f\n", p.abscissa(i)[r], rendered[r] / model_y[r]);
+    std::printf("%s: rendered / diagnosis %.4f, relative RMS difference in shape %.4f\n", p.item_label(i).c_str(), level, shape);
+    EXPECT_NEAR(level, 1.0, 0.03) << p.item_label(i);
+    EXPECT_LT(shape, 0.012) << p.item_label(i);
   }
+}
+
+TEST(DiagnoseLayered, RenderedStackIsRecoveredAndBeatsTheSurfaceFilter) {
+  // Spectra rendered from lateral_tongue with a thinner epithelium (0.175 mm) and more than twice
+  // its blood (3 % at 80 % saturation) under the three LEDs, three subjects, two locations each (each
+  // its own render seed), 1 % noise. Diagnosed with blood_absorption and layered_tissue as
+  // the candidates, cross-validated over subjects: layered_tissue must explain more held out than
+  // the surface filter, be accepted first, and recover the blood fraction and saturation.
+  const std::array<double, 3> truth = {0.175, 0.03, 0.8};  // between the nodes
+  SpectraModel model = layered_model({0.1, 0.15, 0.2, 0.25, 0.3}, {0.01, 0.02, 0.04, 0.08}, {0.7, 0.9});
+  SpectraSet set;
+  set.index_file = "layered-recovery";
+  for (int s = 0; s < 3; ++s)
+    for (auto& L : model.lights)
+      for (int loc = 1; loc <= 2; ++loc) set.spectra.push_back(spectrum("S" + std::to_string(s + 1), L.when.at("light_nm"), loc));
+  SpectraProblem tmpl(set, model);
+  std::mt19937_64 rng(11);
+  std::normal_distribution<double> gauss;
+  PatchRenderOptions gen;
+  gen.resolution = 16;
+  gen.spp = 256;
+  nlohmann::json mat = tmpl.layered_sites()[0]->material(truth);
+  mat["table_photons"] = kTablePhotons;  // the same stack (and table) as the first test
+  for (int i = 0; i < tmpl.num_items(); ++i) {
+    gen.seed = 200 + i;
+    Eigen::VectorXd y = tmpl.instrument_design(ModelState{}, i, render_item_patch(tmpl, i, mat, gen)).A.col(0);
+    const double mean = y.mean();
+    ASSERT_GT(mean, 0);
+    auto& sp = set.spectra[i];
+    for (size_t k = 0; k < sp.nm.size(); ++k) {
+      double v = y[Eigen::Index(k)];
+      sp.value[k] = v + 0.01 * std::sqrt(std::max(0.0, v) * mean) * gauss(rng);
+    }
+  }
+  model.shared_by = {"subject", "site"};  // one set of amounts per subject's tongue for all three LEDs
+  SpectraProblem p(set, model);
+  SelectionOptions sel;
+  sel.group_columns = {"subject"};
+  sel.replicate_columns = {"subject", "light_nm"};
+  sel.max_causes = 2;
+  Diagnosis d = diagnose(p, sel);
+  ASSERT_FALSE(d.steps.empty());
+  double blood_rmse = 0, layered_rmse = 0;
+  for (auto& t : d.steps[0]) {
+    if (p.candidates()[t.candidate].id == "blood_absorption") blood_rmse = t.rmse_after;
+    if (p.candidates()[t.candidate].id == "layered_tissue") layered_rmse = t.rmse_after;
+  }
+  std::printf("held-out RMSE: baseline %.4f, + blood_absorption %.4f, + layered_tissue %.4f (noise floor %.4f); %s\n",
+              d.rmse_baseline_heldout, blood_rmse, layered_rmse, d.floor.rmse, d.verdict.c_str());
+  EXPECT_LT(layered_rmse, blood_rmse);
+  ASSERT_FALSE(d.causes.empty()) << d.verdict;
+  ASSERT_EQ(p.candidates()[d.causes[0].candidate].id, "layered_tissue") << d.verdict;
+  const auto& u = d.causes[0].uncertainty;
+  const std::array<double, 3> th = layered_theta(d.causes[0].theta.data());
+  std::printf("layered nodes: %d in %.1f s\n", p.layered_sites()[0]->nodes_computed(), p.layered_sites()[0]->node_seconds());
+  std::printf("fitted: epithelium %.3f +- %.3f mm, blood %.4f (oxy %.4f +- %.4f, deoxy %.4f +- %.4f), saturation %.2f\n", th[0], u[0],
+              th[1], d.causes[0].theta[1], u[1], d.causes[0].theta[2], u[2], th[2]);
+  // Blood is recovered; the epithelial thickness is not (measured 0.274 mm for 0.175): over
+  // 0.1-0.3 mm the residual sum of squares changes by ~15 % at the right blood, because the three
+  // LEDs all probe the top few tenths of a millimetre and the shared amounts absorb the rest, so a
+  // 1 % difference in level between LEDs (the columns against the render, first test) moves it by
+  // 0.1 mm. docs/diagnose.md 4.4 says so.
+  EXPECT_NEAR(th[1], truth[1], 0.25 * truth[1]);
+  EXPECT_NEAR(th[2], truth[2], 0.1);
 }

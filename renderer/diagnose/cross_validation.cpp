@@ -191,6 +191,7 @@ std::vector<std::string> params_at_bound(const DiagnoseProblem& p, int cand, con
   const auto& spec = p.candidates()[cand];
   for (size_t k = 0; k < spec.params.size(); ++k) {
     const ParamSpec& ps = spec.params[k];
+    if (ps.lo == ps.hi) continue;  // fixed by the model (a one-value grid): not pushed anywhere
     int at = 0, n = 0;
     for (auto& st : after.fold_states) {
       if (st.causes.empty() || st.causes.back().candidate != cand) continue;
@@ -441,6 +442,7 @@ std::vector<std::string> final_params_at_bound(const CandidateSpec& c, const std
   std::vector<std::string> out;
   for (size_t k = 0; k < c.params.size() && k < theta.size(); ++k) {
     const ParamSpec& ps = c.params[k];
+    if (ps.lo == ps.hi) continue;  // fixed by the model
     double span = std::isfinite(ps.hi - ps.lo) ? ps.hi - ps.lo : std::fabs(theta[k]) + 1;
     if (std::isfinite(ps.hi) && theta[k] >= ps.hi - 1e-3 * span) out.push_back(ps.name + " at its upper bound " + fmtg(ps.hi));
     if (std::isfinite(ps.lo) && theta[k] <= ps.lo + 1e-3 * span && !(ps.lo == 0 && ps.init == 0))

@@ -79,6 +79,11 @@ std::pair<double, double> mean_se(const std::vector<ItemFit>& fits, const std::s
 
 }  // namespace
 
+std::array<double, 3> layered_theta(const double* p) {
+  const double f = std::max(0.0, p[1]) + std::max(0.0, p[2]);
+  return {p[0], f, f > 0 ? std::max(0.0, p[1]) / f : 1.0};
+}
+
 double emission_peak_nm(const GridEem& e) {
   auto a = e.photon_albedo();
   int ex = static_cast<int>(std::max_element(a.begin(), a.end()) - a.begin());
@@ -279,22 +284,30 @@ std::string SpectraProblem::condition(int i, const std::string& column) const {
 }
 
 void SpectraProblem::add_layered_candidate() {
-  const LayeredCauseOptions& o = model_.layered;
+  LayeredCauseOptions o = model_.layered;
   if (!o.enabled || o.sites.empty()) return;
+  // Walk only where the lights emit and the fit looks (with room for shifts and blur).
+  o.min_nm = 1e9;
+  for (auto& L : lights_)
+    for (int i = 0; i < grid_.size(); ++i)
+      if (L.e_tail[i] > 0) o.min_nm = std::min(o.min_nm, grid_.wavelength(i) - 10);
+  o.max_nm = range_.max_nm + 30;
   std::vector<std::vector<double>> light_e;
   for (auto& L : lights_) light_e.push_back(L.e_tail);
   CandidateSpec c{"layered_tissue", "layered_tissue",
-                  "layered tissue (epithelial thickness, blood volume fraction and saturation per site)", {}, 0, ""};
+                  "layered tissue (epithelial thickness, oxy- and deoxygenated blood per site)", {}, 0, ""};
+  const double fmax = o.blood_fraction.back();
   for (auto& spec : o.sites) {
     sites_.push_back(std::make_shared<LayeredSite>(spec, o, grid_, eem_names_, eems_, light_e));
     const std::string& s = spec.site;
     auto& t = o.thickness_mm;
-    auto& b = o.blood_fraction;
-    auto& q = o.saturation;
+    // Blood as oxy- and deoxygenated volume fractions (fraction = their sum, saturation = oxy /
+    // sum), as blood_absorption has oxy and deoxy: fully oxygenated blood rests on deoxy's null
+    // bound, which is not a bound the fit is pushed to.
     c.params.push_back({"thickness_mm:" + s, "mm", std::clamp(0.25, t.front(), t.back()), t.front(), t.back(), 0.01, {}});
-    c.params.push_back({"blood_fraction:" + s, "volume fraction", std::clamp(0.0125, b.front(), b.back()), b.front(), b.back(), 0.001,
-                        {std::clamp(0.005, b.front(), b.back()), std::clamp(0.03, b.front(), b.back())}});
-    c.params.push_back({"saturation:" + s, "", std::clamp(0.75, q.front(), q.back()), q.front(), q.back(), 0.02, {}});
+    c.params.push_back({"oxy_blood_fraction:" + s, "volume fraction", std::min(0.01, fmax), 0.0, fmax, 0.001,
+                        {std::min(0.005, fmax), std::min(0.03, fmax)}});
+    c.params.push_back({"deoxy_blood_fraction:" + s, "volume fraction", 0.0, 0.0, fmax, 0.001, {0.0, std::min(0.005, fmax)}});
   }
   candidates_.push_back(std::move(c));
 }
@@ -342,7 +355,7 @@ SpectraProblem::Effects SpectraProblem::decode(const ModelState& s) const {
         break;
       case SpectraCause::kResponse: fx.response = a.theta; break;
       case SpectraCause::kLayered:
-        for (size_t q = 0; q + 2 < a.theta.size(); q += 3) fx.layered.push_back({a.theta[q], a.theta[q + 1], a.theta[q + 2]});
+        for (size_t q = 0; q + 2 < a.theta.size(); q += 3) fx.layered.push_back(layered_theta(&a.theta[q]));
         break;
     }
   }
@@ -504,11 +517,38 @@ Eigen::MatrixXd SpectraProblem::sample(const std::vector<std::vector<double>>& c
   return A;
 }
 
+namespace {
+
+// An item's fit from its design A and coefficients x (x in the columns' units per unit y).
+ItemFit item_fit(const Eigen::VectorXd& y, const Eigen::MatrixXd& A, const Eigen::VectorXd& x,
+                 const std::vector<std::string>& names, double mean, int dofs) {
+  ItemFit f;
+  f.measured = y;
+  f.predicted = A * x;
+  f.residual = y - f.predicted;
+  f.local_dofs = dofs;
+  double total = f.predicted.mean();
+  for (Eigen::Index j = 0; j < A.cols(); ++j) {
+    double part = (A.col(j) * x[j]).mean();
+    f.locals["fraction:" + names[j]] = total > 0 ? part / total : 0;
+    if (names[j] == "longpass_leak") f.locals["leak_ratio"] = x[j] * mean;
+  }
+  return f;
+}
+
+}  // namespace
+
+std::string SpectraProblem::visit_of(int i) const {
+  std::string k;
+  for (auto& c : model_.shared_by) k += condition(i, c) + '\x1f';
+  return k;
+}
+
 std::vector<ItemFit> SpectraProblem::evaluate(const ModelState& state, const std::vector<int>& items) const {
   Effects fx = decode(state);
-  std::vector<ItemFit> out(items.size());
   std::map<std::pair<int, int>, std::vector<std::vector<double>>> cache;
   std::vector<std::string> names;
+  std::vector<Eigen::MatrixXd> A(items.size());
   for (size_t q = 0; q < items.size(); ++q) {
     const Item& it = items_[items[q]];
     const std::pair<int, int> key(it.light, fx.layered.empty() ? -1 : it.site);
@@ -518,22 +558,61 @@ std::vector<ItemFit> SpectraProblem::evaluate(const ModelState& state, const std
       c = cache.emplace(key, grid_columns(it.light, key.second, fx, &nm)).first;
       names = nm;
     }
-    Eigen::MatrixXd A = sample(c->second, it);
-    NnlsResult r = nnls(A, it.y);
-    ItemFit f;
-    f.measured = it.y;
-    f.predicted = A * r.x;
-    f.residual = it.y - f.predicted;
-    f.local_dofs = r.active;
-    double total = f.predicted.mean();
-    for (Eigen::Index j = 0; j < A.cols(); ++j) {
-      double part = (A.col(j) * r.x[j]).mean();
-      f.locals["fraction:" + names[j]] = total > 0 ? part / total : 0;
-      if (names[j] == "longpass_leak") f.locals["leak_ratio"] = r.x[j] * it.mean;
-    }
-    out[q] = std::move(f);
+    A[q] = sample(c->second, it);
   }
+  std::vector<ItemFit> out(items.size());
+  if (model_.shared_by.empty()) {
+    for (size_t q = 0; q < items.size(); ++q) {
+      const Item& it = items_[items[q]];
+      NnlsResult r = nnls(A[q], it.y);
+      out[q] = item_fit(it.y, A[q], r.x, names, it.mean, r.active);
+    }
+    return out;
+  }
+  std::map<std::string, std::vector<size_t>> visits;
+  for (size_t q = 0; q < items.size(); ++q) visits[visit_of(items[q])].push_back(q);
+  for (auto& [key, group] : visits) fit_visit(items, group, A, names, out);
   return out;
+}
+
+void SpectraProblem::fit_visit(const std::vector<int>& items, const std::vector<size_t>& group,
+                               const std::vector<Eigen::MatrixXd>& A, const std::vector<std::string>& names,
+                               std::vector<ItemFit>& out) const {
+  // One set of fluorophore amounts for every spectrum of a visit (absolute: a spectrum's
+  // columns divided by its mean, since y is), each spectrum keeping its own leak and band columns.
+  std::vector<int> shared, local;
+  for (size_t j = 0; j < names.size(); ++j)
+    (std::find(eem_names_.begin(), eem_names_.end(), names[j]) != eem_names_.end() ? shared : local).push_back(int(j));
+  const Eigen::Index S = Eigen::Index(shared.size()), L = Eigen::Index(local.size());
+  Eigen::Index rows = 0;
+  for (size_t q : group) rows += A[q].rows();
+  Eigen::MatrixXd M = Eigen::MatrixXd::Zero(rows, S + L * Eigen::Index(group.size()));
+  Eigen::VectorXd y(rows);
+  Eigen::Index r0 = 0;
+  for (size_t g = 0; g < group.size(); ++g) {
+    const size_t q = group[g];
+    const Item& it = items_[items[q]];
+    const Eigen::Index n = A[q].rows();
+    for (Eigen::Index j = 0; j < S; ++j) M.block(r0, j, n, 1) = A[q].col(shared[j]) / it.mean;
+    for (Eigen::Index j = 0; j < L; ++j) M.block(r0, S + L * Eigen::Index(g) + j, n, 1) = A[q].col(local[j]);
+    y.segment(r0, n) = it.y;
+    r0 += n;
+  }
+  NnlsResult r = nnls(M, y);
+  int shared_active = 0;
+  for (Eigen::Index j = 0; j < S; ++j) shared_active += r.x[j] > 0;
+  for (size_t g = 0; g < group.size(); ++g) {
+    const size_t q = group[g];
+    const Item& it = items_[items[q]];
+    Eigen::VectorXd x = Eigen::VectorXd::Zero(A[q].cols());
+    int dofs = g == 0 ? shared_active : 0;  // the shared amounts are counted once per visit
+    for (Eigen::Index j = 0; j < S; ++j) x[shared[j]] = r.x[j] / it.mean;
+    for (Eigen::Index j = 0; j < L; ++j) {
+      x[local[j]] = r.x[S + L * Eigen::Index(g) + j];
+      dofs += x[local[j]] > 0;
+    }
+    out[q] = item_fit(it.y, A[q], x, names, it.mean, dofs);
+  }
 }
 
 SpectraProblem::Design SpectraProblem::design(const ModelState& state, int item) const {
@@ -661,10 +740,12 @@ std::string SpectraProblem::plain_words(const CandidateSpec& c, const std::vecto
     case SpectraCause::kLayered: {
       std::string s = "The tissue is a layered stack whose depth matters: the fluorophores it holds are excited and seen "
                       "through the blood at their depth, one parameter set per site for all excitations:";
-      for (size_t q = 0; q < sites_.size() && 3 * q + 2 < th.size(); ++q)
+      for (size_t q = 0; q < sites_.size() && 3 * q + 2 < th.size(); ++q) {
+        auto v = layered_theta(&th[3 * q]);
         s += " " + sites_[q]->site() + ": epithelium " + pm(th[3 * q], u[3 * q], "%.3f") + " mm, blood " +
-             pm(100 * th[3 * q + 1], 100 * u[3 * q + 1], "%.2f") + " % by volume at saturation " +
-             pm(th[3 * q + 2], u[3 * q + 2], "%.2f") + ";";
+             pm(100 * th[3 * q + 1], 100 * u[3 * q + 1], "%.2f") + " % (oxy) + " + pm(100 * th[3 * q + 2], 100 * u[3 * q + 2], "%.2f") +
+             " % (deoxy) by volume, saturation " + fmt("%.2f", v[2]) + ";";
+      }
       return s;
     }
     case SpectraCause::kEdge: {

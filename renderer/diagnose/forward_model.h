@@ -10,6 +10,7 @@
 // (model_extensions.h) change these columns or add columns. Residuals are in units of the
 // spectrum's mean radiance over the fit range, so spectra at different LED currents weigh alike.
 #pragma once
+#include <array>
 #include <map>
 #include <memory>
 #include <optional>
@@ -49,6 +50,9 @@ struct SpectraModel {
   double instrument_fwhm_nm = 0;     // bandwidth already assumed by the baseline
   SpectraCandidateOptions candidates;
   LayeredCauseOptions layered;       // the layered_tissue cause (off unless the model has the block)
+  // Spectra equal in these columns (a visit: subject, site, date) share one set of fluorophore
+  // amounts (absolute: the LED spectra's measured levels relate them); empty: every spectrum its own.
+  std::vector<std::string> shared_by;
   std::filesystem::path base_dir;    // for fluorophore files named relative to the model
 };
 
@@ -124,6 +128,9 @@ class SpectraProblem : public DiagnoseProblem {
   Effects decode(const ModelState& s) const;
   std::vector<std::vector<double>> grid_columns(int light, int site, const Effects& fx, std::vector<std::string>* names) const;
   void add_layered_candidate();
+  std::string visit_of(int i) const;
+  void fit_visit(const std::vector<int>& items, const std::vector<size_t>& group, const std::vector<Eigen::MatrixXd>& A,
+                 const std::vector<std::string>& names, std::vector<ItemFit>& out) const;
   void longpass(const Effects& fx, std::vector<double>& tlp, std::vector<double>& block) const;
   void add_leak_columns(int light, const Effects& fx, const std::vector<double>& tlp, const std::vector<double>& block,
                         std::vector<std::vector<double>>& cols, std::vector<std::string>* names) const;
@@ -145,6 +152,9 @@ class SpectraProblem : public DiagnoseProblem {
   SpectraRange range_;         // wavelengths fitted (fit range within the data)
 };
 
+// The layered_tissue cause's parameters of one site (thickness mm, oxy and deoxy blood volume
+// fractions) as the stack's (thickness, blood fraction, saturation; saturation 1 without blood).
+std::array<double, 3> layered_theta(const double* site_params);
 // Removes a measured white-target leak spectrum's flat instrument floor (median beyond 600 nm),
 // clipping at zero: the column keeps only the excitation light that leaks.
 void remove_leak_floor(std::vector<double>& leak, const WavelengthGrid& g);

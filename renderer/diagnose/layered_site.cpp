@@ -1,6 +1,7 @@
 #include "renderer/diagnose/layered_site.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 
 #include "renderer/core/asset_path.h"
@@ -72,9 +73,11 @@ std::pair<int, double> cell(const std::vector<double>& axis, double x) {
   return {k, (x - axis[k]) / (axis[k + 1] - axis[k])};
 }
 
-WavelengthGrid coarse_grid(const WavelengthGrid& g, double step) {
-  double lo = std::floor(g.min_nm / step) * step, hi = std::ceil(g.max_nm / step) * step;
-  return WavelengthGrid{std::max(lo, step), hi, step};
+WavelengthGrid coarse_grid(const WavelengthGrid& g, const LayeredCauseOptions& o) {
+  const double step = o.transport_step_nm;
+  const double a = o.min_nm > 0 ? std::max(o.min_nm, g.min_nm) : g.min_nm, b = o.max_nm > 0 ? std::min(o.max_nm, g.max_nm) : g.max_nm;
+  double lo = std::floor(a / step) * step, hi = std::ceil(b / step) * step;
+  return WavelengthGrid{std::max(lo, step), std::max(hi, lo + 2 * step), step};
 }
 
 }  // namespace
@@ -106,7 +109,7 @@ LayeredSite::LayeredSite(const LayeredSiteSpec& spec, const LayeredCauseOptions&
   std::array<double, 3> mid = {opt_.thickness_mm[opt_.thickness_mm.size() / 2], opt_.blood_fraction[opt_.blood_fraction.size() / 2],
                                opt_.saturation[opt_.saturation.size() / 2]};
   held_.assign(names.size(), false);
-  const WavelengthGrid cg = coarse_grid(grid_, opt_.transport_step_nm);
+  const WavelengthGrid cg = coarse_grid(grid_, opt_);
   Scene sc;
   try {
     sc = load_scene(JsonFile::from(flat_patch_scene(material(mid, false), cg, std::vector<double>(cg.size(), 1.0), cg.min_nm, cg.max_nm),
@@ -136,7 +139,7 @@ nlohmann::json LayeredSite::material(const std::array<double, 3>& theta, bool ta
 }
 
 void LayeredSite::compute(Node& node, const std::array<double, 3>& theta) const {
-  const WavelengthGrid cg = coarse_grid(grid_, opt_.transport_step_nm);
+  const WavelengthGrid cg = coarse_grid(grid_, opt_);
   Scene sc = load_scene(JsonFile::from(flat_patch_scene(material(theta, false), cg, std::vector<double>(cg.size(), 1.0), cg.min_nm, cg.max_nm),
                                        spec_.source + " layered_tissue " + spec_.site));
   RenderTables rt(sc);
@@ -191,12 +194,17 @@ void LayeredSite::compute(Node& node, const std::array<double, 3>& theta) const 
 const LayeredSite::Node& LayeredSite::node(int it, int ib, int is) const {
   const size_t nb = opt_.blood_fraction.size(), ns = opt_.saturation.size();
   Node& n = *nodes_[(size_t(it) * nb + ib) * ns + is];
-  std::call_once(n.once, [&] { compute(n, {opt_.thickness_mm[it], opt_.blood_fraction[ib], opt_.saturation[is]}); });
+  std::call_once(n.once, [&] {
+    auto t0 = std::chrono::steady_clock::now();
+    compute(n, {opt_.thickness_mm[it], opt_.blood_fraction[ib], opt_.saturation[is]});
+    node_ms_ += std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::steady_clock::now() - t0).count();
+    ++computed_;
+  });
   return n;
 }
 
 std::vector<double> LayeredSite::factor(int k, int light, const std::array<double, 3>& theta) const {
-  const WavelengthGrid cg = coarse_grid(grid_, opt_.transport_step_nm);
+  const WavelengthGrid cg = coarse_grid(grid_, opt_);
   const int C = cg.size(), NL = int(lights_.size());
   auto [it, tt] = cell(opt_.thickness_mm, theta[0]);
   auto [ib, tb] = cell(opt_.blood_fraction, theta[1]);

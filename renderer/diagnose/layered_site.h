@@ -25,6 +25,7 @@
 // needed (thread safe, each node seeded by itself, so results do not depend on threads or order).
 #pragma once
 #include <array>
+#include <atomic>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -53,9 +54,12 @@ struct LayeredCauseOptions {
   double transport_step_nm = 5;           // coarse grid of the walks
   int photons = 3000;                     // walks per cosine and wavelength group, per node
   double view_cos = 1.0, light_cos = 0.70710678118654752;  // flat patch geometry (render_loop.h)
-  std::vector<double> thickness_mm = {0.05, 0.1, 0.2, 0.3, 0.45, 0.65};
-  std::vector<double> blood_fraction = {0, 0.005, 0.01, 0.02, 0.04, 0.08};
-  std::vector<double> saturation = {0.3, 0.65, 1.0};
+  std::vector<double> thickness_mm = {0.05, 0.1, 0.15, 0.2, 0.25, 0.3, 0.4, 0.5, 0.65};
+  std::vector<double> blood_fraction = {0, 0.005, 0.01, 0.02, 0.04, 0.08, 0.14, 0.2};
+  std::vector<double> saturation = {0.3, 0.6, 0.8, 1.0};
+  // Wavelengths the walks cover (0: the diagnosis grid's ends); set by the spectra problem to the
+  // lights' band and the fit range, outside which the factor is held at its end value.
+  double min_nm = 0, max_nm = 0;
 };
 
 class LayeredSite {
@@ -77,6 +81,9 @@ class LayeredSite {
   nlohmann::json material(const std::array<double, 3>& theta, bool table_transport = true) const;
   // Names of the layers that hold blood (their fraction and saturation are the fitted ones).
   const std::vector<std::string>& blood_layers() const { return blood_layers_; }
+  // Nodes computed so far and the CPU seconds they took.
+  int nodes_computed() const { return computed_.load(); }
+  double node_seconds() const { return 1e-3 * double(node_ms_.load()); }
 
  private:
   struct Node;
@@ -93,6 +100,8 @@ class LayeredSite {
   std::vector<bool> held_;
   std::vector<std::string> blood_layers_;
   std::vector<std::unique_ptr<Node>> nodes_;
+  mutable std::atomic<int> computed_{0};
+  mutable std::atomic<long long> node_ms_{0};
 };
 
 // Parses the model JSON's "layered_tissue" block (errors name the file and the field).
