@@ -167,4 +167,29 @@ TEST(DiagnoseLayered, RenderedStackIsRecoveredAndBeatsTheSurfaceFilter) {
   // 0.1 mm. docs/diagnose.md 4.4 says so.
   EXPECT_NEAR(th[1], truth[1], 0.25 * truth[1]);
   EXPECT_NEAR(th[2], truth[2], 0.1);
+
+  // Rendered back: the fitted stack with subject S1's fitted amounts, through the instrument, against
+  // S1's spectra (each with its own scale, as the diagnosis' render loop compares).
+  std::vector<int> s1;
+  for (int i = 0; i < p.num_items(); ++i)
+    if (p.condition(i, "subject") == "S1") s1.push_back(i);
+  auto fits = p.evaluate(d.final_fit.state, s1);
+  std::map<std::string, double> amounts;
+  for (auto& [k, v] : fits[0].locals)
+    if (k.rfind("amount:", 0) == 0) amounts[k.substr(7)] = v;
+  ASSERT_GT(amounts["collagen"], 0);
+  nlohmann::json back = p.layered_sites()[0]->material(th, true, amounts);
+  back["table_photons"] = kTablePhotons;
+  PatchRenderOptions ro;
+  ro.resolution = 16;
+  ro.spp = 256;
+  ro.seed = 77;
+  std::vector<ItemFit> rendered(p.num_items());
+  for (int i : s1) rendered[i] = compare_rendered(p, instrument_only(p, d.final_fit.state), i, render_item_patch(p, i, back, ro));
+  std::vector<int> order(fits.size());
+  for (size_t k = 0; k < order.size(); ++k) order[k] = int(k);
+  const double rb = pooled_rmse(rendered, s1), model_rmse = pooled_rmse(fits, order);
+  std::printf("rendered back: RMSE %.4f against S1's spectra (the diagnosis' own fit %.4f, noise floor %.4f)\n", rb, model_rmse,
+              d.floor.rmse);
+  EXPECT_LT(rb, 2 * d.floor.rmse);
 }

@@ -42,6 +42,10 @@ void register_diagnose_command(CLI::App& app) {
                   "select causes and fit them on these rows only (column=a,b), then predict the others with the fitted "
                   "global parameters fixed (spectra)");
   cmd->add_option("--predict", job->predict, "rows to predict with --fit-on (column=a,b; default: every other row)");
+  cmd->add_option("--shared-concentrations", job->shared_concentrations,
+                  "spectra equal in these columns (e.g. subject,site,date) share one set of fluorophore amounts "
+                  "(overrides the model; spectra)")
+      ->delimiter(',');
   cmd->callback([job] { run_diagnose(*job); });
 }
 

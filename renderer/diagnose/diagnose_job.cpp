@@ -38,6 +38,7 @@ DiagnoseOutcome run_diagnose_job(const DiagnoseJob& job) {
   if (job.z) sel.z = *job.z;
   if (job.max_causes) sel.max_causes = *job.max_causes;
   if (!job.report_by.empty()) sel.report_by = job.report_by;
+  if (!job.shared_concentrations.empty()) m.spectra.shared_by = job.shared_concentrations;
 
   std::unique_ptr<DiagnoseProblem> problem;
   ReportContext ctx;
@@ -74,7 +75,8 @@ DiagnoseOutcome run_diagnose_job(const DiagnoseJob& job) {
     ctx.notes = data.notes;
     ctx.model_options = {{"blood_excitation_path_factor", m.spectra.candidates.blood_excitation_path_factor},
                          {"fit_range_nm", {m.spectra.fit_min_nm, m.spectra.fit_max_nm}},
-                         {"fluorophores", m.spectra.fluorophores}};
+                         {"fluorophores", m.spectra.fluorophores},
+                         {"shared_concentrations", m.spectra.shared_by}};
     problem = spectra_problem(std::move(data), std::move(m.spectra), job.model);
   } else {
     CameraPatchSet data = read_camera_patches(job.input, select);

@@ -237,6 +237,7 @@ nlohmann::json DiagnoseJob::to_json() const {
   j["z"] = z ? nlohmann::json(*z) : nlohmann::json(nullptr);
   j["max_causes"] = max_causes ? nlohmann::json(*max_causes) : nlohmann::json(nullptr);
   j["report_by"] = report_by;
+  j["shared_concentrations"] = shared_concentrations;
   j["fit_on"] = fit_on;
   j["predict"] = predict;
   return j;

@@ -40,6 +40,7 @@ struct DiagnoseJob {
   std::string report_by;                   // overrides the model's report_by column
   std::string fit_on;                      // "column=a,b": select and fit on these rows only...
   std::string predict;                     // ...and predict these ("" = every other row)
+  std::vector<std::string> shared_concentrations;  // overrides the model's shared_concentrations (spectra)
   nlohmann::json to_json() const;
 };
 

@@ -229,6 +229,12 @@ SpectraProblem::SpectraProblem(SpectraSet data, SpectraModel model) : data_(std:
   }
 
   add_layered_candidate();
+  for (auto& c : model_.shared_by) {
+    bool any = false;
+    for (auto& sp : data_.spectra) any = any || (sp.conditions.count(c) && !sp.conditions.at(c).empty());
+    if (!any && !data_.spectra.empty())
+      throw InputError("model", "/shared_concentrations", "column \"" + c + "\" is empty or missing for every spectrum");
+  }
 
   for (int i = 0; i < grid_.size(); ++i)
     if (grid_.wavelength(i) >= model_.fit_min_nm && grid_.wavelength(i) <= model_.fit_max_nm && grid_.wavelength(i) >= lo &&
@@ -531,6 +537,7 @@ ItemFit item_fit(const Eigen::VectorXd& y, const Eigen::MatrixXd& A, const Eigen
   for (Eigen::Index j = 0; j < A.cols(); ++j) {
     double part = (A.col(j) * x[j]).mean();
     f.locals["fraction:" + names[j]] = total > 0 ? part / total : 0;
+    f.locals["amount:" + names[j]] = x[j] * mean;  // absolute: per unit of the column (render_loop.h)
     if (names[j] == "longpass_leak") f.locals["leak_ratio"] = x[j] * mean;
   }
   return f;

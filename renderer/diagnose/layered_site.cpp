@@ -128,13 +128,25 @@ LayeredSite::LayeredSite(const LayeredSiteSpec& spec, const LayeredCauseOptions&
 
 LayeredSite::~LayeredSite() = default;
 
-nlohmann::json LayeredSite::material(const std::array<double, 3>& theta, bool table_transport) const {
+nlohmann::json LayeredSite::material(const std::array<double, 3>& theta, bool table_transport,
+                                     const std::map<std::string, double>& amounts) const {
   nlohmann::json m = spec_.material;
   m["type"] = "layered_tissue";
   m["transport"] = table_transport ? "table" : "walk";
   patch_layer(m, opt_.epithelium, {{"thickness_mm", theta[0]}});
   for (auto& b : blood_layers_)
     patch_layer(m, b, {{"absorption", {{"blood", {{"volume_fraction", theta[1]}, {"saturation", theta[2]}}}}}});
+  if (!amounts.empty())
+    for (auto& l : named_layers(spec_.material)) {
+      if (!l.contains("fluorophores") || !l["fluorophores"].is_array()) continue;
+      nlohmann::json patch = nlohmann::json::object();
+      for (auto& f : l["fluorophores"]) {
+        auto a = amounts.find(f.value("name", ""));
+        if (a != amounts.end() && f.contains("mua_per_mm") && f["mua_per_mm"].is_number())
+          patch[a->first] = {{"mua_per_mm", f["mua_per_mm"].get<double>() * std::max(0.0, a->second)}};
+      }
+      if (!patch.empty()) patch_layer(m, l.value("name", ""), {{"fluorophores", patch}});
+    }
   return m;
 }
 

@@ -25,6 +25,7 @@
 // needed (thread safe, each node seeded by itself, so results do not depend on threads or order).
 #pragma once
 #include <array>
+#include <map>
 #include <atomic>
 #include <memory>
 #include <mutex>
@@ -77,8 +78,11 @@ class LayeredSite {
   bool holds(int k) const { return held_[k]; }
   // F_k,L on the diagnosis grid at theta = (thickness mm, blood fraction, saturation).
   std::vector<double> factor(int k, int light, const std::array<double, 3>& theta) const;
-  // The material with theta applied (what the renderer renders back).
-  nlohmann::json material(const std::array<double, 3>& theta, bool table_transport = true) const;
+  // The material with theta applied (what the renderer renders back); `amounts` (by fluorophore
+  // name) multiply the fluorophores' mua_per_mm, e.g. a diagnosis' fitted amounts ("amount:<name>"
+  // of its item fits: for the fluorophores the stack holds, multiples of the preset's own).
+  nlohmann::json material(const std::array<double, 3>& theta, bool table_transport = true,
+                          const std::map<std::string, double>& amounts = {}) const;
   // Names of the layers that hold blood (their fraction and saturation are the fitted ones).
   const std::vector<std::string>& blood_layers() const { return blood_layers_; }
   // Nodes computed so far and the CPU seconds they took.
