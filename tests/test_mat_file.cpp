@@ -121,6 +121,18 @@ TEST(MatFile, Mat4IsReadAndItsSizesAreCheckedBeforeLibmatio) {
   e = input_error_of([&] { read_mat_file(swapped); });
   EXPECT_NE(e.find(swapped.string() + ": variable 1: name of 1761607680 bytes but only 130 bytes of the file are left"),
             std::string::npos) << e;
+  // fuzz_mat (2026-11-26, second campaign): a file ending its 128-byte header in "MI" but with the
+  // version bytes 00 01 (0x0001 in that byte order, not 5's 0x0100) is MAT 4 to libmatio, which read
+  // the name length 00 74 79 70 from byte 16 and allocated 1.9 GB (regressions/mat/mi_header_version_0001.mat).
+  auto mi = tmp_dir() / "mi_header.mat";
+  {
+    std::string b = std::string(12, '\0') + std::string("\0\x3f\0\0\0typ", 8) + std::string(104, ' ') + std::string("\0\x01MI", 4);
+    ASSERT_EQ(b.size(), 128u);
+    std::ofstream(mi, std::ios::binary) << b;
+  }
+  e = input_error_of([&] { read_mat_file(mi); });
+  EXPECT_NE(e.find(mi.string() + ": variable 1: name of 1887007744 bytes but only 108 bytes of the file are left"), std::string::npos)
+      << e;
   // The second variable claims 100000 x 100000 doubles behind 8 bytes.
   auto data = tmp_dir() / "v4_data.mat";
   std::ofstream(data, std::ios::binary) << mat4_variable("wave", 1, 3, {400, 410, 420}) + mat4_variable("k", 100000, 100000, {1});

@@ -203,7 +203,15 @@ uint32_t load_u32(const uint8_t* q, bool swap) {
 void check_mat4_sizes(const std::filesystem::path& file) {
   std::ifstream in(file, std::ios::binary);
   std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (bytes.size() >= 128 && ((bytes[126] == 'I' && bytes[127] == 'M') || (bytes[126] == 'M' && bytes[127] == 'I'))) return;
+  // A version 5 or 7.3 header is what libmatio reads as such: the endian indicator, and the version
+  // word 0x0100 or 0x0200 in that byte order. Anything else it reads as MAT 4, from byte 0 (found by
+  // fuzz_mat: "MI" with version bytes 00 01 went to the MAT 4 reader, which allocated a 1.9 GB name).
+  if (bytes.size() >= 128) {
+    const auto b = [&](int i) { return unsigned(static_cast<uint8_t>(bytes[i])); };
+    const bool im = bytes[126] == 'I' && bytes[127] == 'M', mi = bytes[126] == 'M' && bytes[127] == 'I';
+    const unsigned version = im ? (b(124) | b(125) << 8) : (b(125) | b(124) << 8);
+    if ((im || mi) && (version == 0x0100 || version == 0x0200)) return;
+  }
   const uint8_t* d = reinterpret_cast<const uint8_t*>(bytes.data());
   const uint64_t size = bytes.size();
   const uint64_t esize[6] = {8, 4, 4, 2, 2, 1};
