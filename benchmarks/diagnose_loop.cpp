@@ -257,7 +257,7 @@ int run(int argc, char** argv) {
         }
         std::string preset = preset_for(site);
         r.base_material[i] = tissue_material(preset, cb);
-        r.ext_material[i] = tissue_material(preset, ce, fold_report[f]);
+        r.ext_material[i] = fitted_material(p, ext[f], i, preset, ce, fold_report[f]);  // a layered stack when fitted
         auto render_cached = [&](const nlohmann::json& mat, const std::string& tag) {
           if (name == "spectrum") { ++r.renders; return render_item_patch(p, i, mat, args.render); }
           std::string key = tag + "|" + site + "|" + (name == "subject_site" ? p.condition(i, report_by) : "") + "|" +

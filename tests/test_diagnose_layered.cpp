@@ -91,9 +91,7 @@ TEST(DiagnoseLayered, ColumnsAreTheRenderedStack) {
   o.resolution = 16;
   o.spp = 512;
   for (int i = 0; i < p.num_items(); ++i) {
-    SpectraProblem::Design d = p.design(state, i);
-    Eigen::VectorXd model_y = Eigen::VectorXd::Zero(d.A.rows());
-    for (Eigen::Index k = 0; k < d.A.cols(); ++k) model_y += d.A.col(k);
+    Eigen::VectorXd model_y = modelled_spectrum(p, state, i, {{"collagen", 1}, {"NADH", 1}, {"FAD", 1}, {"elastin", 1}});
     Eigen::VectorXd rendered = p.instrument_design(ModelState{}, i, render_item_patch(p, i, mat, o)).A.col(0);
     const double level = rendered.sum() / model_y.sum();
     const double shape = (rendered / level - model_y).norm() / model_y.norm();

@@ -181,9 +181,7 @@ TEST(DiagnoseLoop, RenderedPatchIsTheDiagnosisModel) {
   o.resolution = 24;
   o.spp = 512;
   for (int i = 0; i < p.num_items(); ++i) {
-    SpectraProblem::Design d = p.design(state, i);
-    Eigen::VectorXd model_y = Eigen::VectorXd::Zero(d.A.rows());
-    for (size_t k = 0; k < d.names.size(); ++k) model_y += d.A.col(static_cast<Eigen::Index>(k)) * conc.at(d.names[k]);
+    Eigen::VectorXd model_y = modelled_spectrum(p, state, i, conc);  // (the spectra's means are 1)
     Eigen::VectorXd rendered = p.instrument_design(state, i, render_item_patch(p, i, mat, o)).A.col(0);
     double rel = (rendered - model_y).norm() / model_y.norm();
     double ratio = rendered.sum() / model_y.sum();

@@ -221,6 +221,25 @@ nlohmann::json state_report(const SpectraProblem& p, const ModelState& state, co
                              {"fluorophores", p.model().fluorophores}}}};
 }
 
+Eigen::VectorXd modelled_spectrum(const SpectraProblem& p, const ModelState& state, int item,
+                                  const std::map<std::string, double>& amounts) {
+  SpectraProblem::Design d = p.design(state, item);
+  Eigen::VectorXd y = Eigen::VectorXd::Zero(d.A.rows());
+  for (size_t k = 0; k < d.names.size(); ++k)
+    if (auto a = amounts.find(d.names[k]); a != amounts.end())
+      y += d.A.col(static_cast<Eigen::Index>(k)) * (a->second / p.mean_radiance(item));
+  return y;
+}
+
+nlohmann::json fitted_material(const SpectraProblem& p, const ModelState& state, int item, const std::string& preset,
+                               const std::map<std::string, double>& concentrations, const std::string& report_file) {
+  const int site = p.site_of(item);
+  for (auto& c : state.causes)
+    if (spectra_cause(p.candidates()[c.candidate]) == SpectraCause::kLayered && site >= 0 && 3 * site + 2 < int(c.theta.size()))
+      return p.layered_sites()[site]->material(layered_theta(&c.theta[3 * site]), true, concentrations);
+  return tissue_material(preset, concentrations, report_file);
+}
+
 nlohmann::json tissue_material(const std::string& preset, const std::map<std::string, double>& concentrations,
                                const std::string& report_file) {
   nlohmann::json conc = nlohmann::json::object();

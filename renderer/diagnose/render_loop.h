@@ -85,6 +85,19 @@ nlohmann::json state_report(const SpectraProblem& p, const ModelState& state, co
 nlohmann::json tissue_material(const std::string& preset, const std::map<std::string, double>& concentrations,
                                const std::string& report_file = "");
 
+// The material a fitted state renders back as for item `item`: when the state holds the
+// layered_tissue cause and the item's site has a stack, that stack with the fitted thickness and
+// blood and the amounts `concentrations` (for the fluorophores it holds: multiples of the preset's;
+// fluorophores it does not hold are not rendered); otherwise tissue_material(preset, ...).
+nlohmann::json fitted_material(const SpectraProblem& p, const ModelState& state, int item, const std::string& preset,
+                               const std::map<std::string, double>& concentrations, const std::string& report_file = "");
+
+// The diagnosis' own prediction for item `item` under `state` with fixed amounts (by column name,
+// absolute, as item_concentrations gives them; columns not named count 0), before the instrument's
+// free amplitudes: what a render of the same material should equal.
+Eigen::VectorXd modelled_spectrum(const SpectraProblem& p, const ModelState& state, int item,
+                                  const std::map<std::string, double>& amounts);
+
 // Pooled RMSE of residuals: sqrt(sum r^2 / number of residuals).
 double pooled_rmse(const std::vector<ItemFit>& fits, const std::vector<int>& items);
 
