@@ -191,6 +191,7 @@ SpectraProblem::SpectraProblem(SpectraSet data, SpectraModel model) : data_(std:
   // long-pass's blocked band, so the longpass_leak column would duplicate it.
   SpectraCandidateOptions copt = model_.candidates;
   if (model_.leak != LeakSource::kMeasured) copt.leak = false;
+  std::erase_if(copt.plausible, [](const SpectraCandidateOptions::Range& r) { return r.candidate == "layered_tissue"; });  // its own
   std::vector<FluorophoreInfo> info;
   for (size_t k = 0; k < eem_names_.size(); ++k)
     info.push_back({eem_names_[k], emission_peak_nm(eems_[k]), k < model_.fluorophores.size()});
@@ -291,7 +292,12 @@ std::string SpectraProblem::condition(int i, const std::string& column) const {
 
 void SpectraProblem::add_layered_candidate() {
   LayeredCauseOptions o = model_.layered;
-  if (!o.enabled || o.sites.empty()) return;
+  if (!o.enabled || o.sites.empty()) {
+    for (auto& r : model_.candidates.plausible)
+      if (r.candidate == "layered_tissue")
+        throw InputError("model", "/plausible/layered_tissue", "the model has no (enabled) layered_tissue block");
+    return;
+  }
   // Walk only where the lights emit and the fit looks (with room for shifts and blur).
   o.min_nm = 1e9;
   for (auto& L : lights_)
@@ -314,8 +320,14 @@ void SpectraProblem::add_layered_candidate() {
     c.params.push_back({"oxy_blood_fraction:" + s, "volume fraction", std::min(0.01, fmax), 0.0, fmax, 0.001,
                         {std::min(0.005, fmax), std::min(0.03, fmax)}});
     c.params.push_back({"deoxy_blood_fraction:" + s, "volume fraction", 0.0, 0.0, fmax, 0.001, {0.0, std::min(0.005, fmax)}});
+    for (const char* q : {"oxy_blood_fraction:", "deoxy_blood_fraction:"})
+      c.plausible.push_back({q + s, 0.0, 0.1,
+                             "blood in oral mucosa's stroma: up to 10 % by volume (the presets' 1.25 % reproduces the stromal "
+                             "absorption of Pavlova et al. 2008)"});
   }
-  candidates_.push_back(std::move(c));
+  std::vector<CandidateSpec> one = {std::move(c)};
+  apply_plausible(one, model_.candidates.plausible);
+  candidates_.push_back(std::move(one[0]));
 }
 
 SpectraProblem::Effects SpectraProblem::decode(const ModelState& s) const {

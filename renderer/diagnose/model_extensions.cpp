@@ -161,7 +161,17 @@ std::vector<CandidateSpec> spectra_candidates(const SpectraCandidateOptions& o, 
     r.min_effect_to_noise = kFlexibleMinEffect;
     c.push_back(r);
   }
-  for (auto& r : o.plausible)
+  apply_plausible(c, o.plausible);
+  for (auto& r : o.plausible) {
+    bool any = false;
+    for (auto& cs : c) any = any || cs.id == r.candidate || cs.name == r.candidate;
+    if (!any) throw InputError("model", "/plausible/" + r.candidate, "no candidate cause of that name or id");
+  }
+  return c;
+}
+
+void apply_plausible(std::vector<CandidateSpec>& c, const std::vector<SpectraCandidateOptions::Range>& ranges) {
+  for (auto& r : ranges)
     for (auto& cs : c)
       if (cs.id == r.candidate || cs.name == r.candidate) {
         bool found = false;
@@ -169,12 +179,6 @@ std::vector<CandidateSpec> spectra_candidates(const SpectraCandidateOptions& o, 
           if (q.quantity == r.quantity) { q.lo = r.lo; q.hi = r.hi; q.why = "set in the model"; found = true; }
         if (!found) cs.plausible.push_back(plausible(r.quantity, r.lo, r.hi, "set in the model"));
       }
-  for (auto& r : o.plausible) {
-    bool any = false;
-    for (auto& cs : c) any = any || cs.id == r.candidate || cs.name == r.candidate;
-    if (!any) throw InputError("model", "/plausible/" + r.candidate, "no candidate cause of that name or id");
-  }
-  return c;
 }
 
 SpectraCause spectra_cause(const CandidateSpec& c) {

@@ -88,6 +88,8 @@ struct CameraCandidateOptions {
 std::vector<CandidateSpec> spectra_candidates(const SpectraCandidateOptions& o, const std::vector<FluorophoreInfo>& fluorophores,
                                               const SpectraRange& range);
 SpectraCause spectra_cause(const CandidateSpec& c);
+// The model's plausible ranges replace (or add) the candidates' own, by candidate id or name.
+void apply_plausible(std::vector<CandidateSpec>& c, const std::vector<SpectraCandidateOptions::Range>& ranges);
 // The fluorophore named by an extra_fluorophore candidate id ("extra_fluorophore:FAD" -> "FAD").
 std::string extra_fluorophore_name(const CandidateSpec& c);
 // The fluorophore a per-fluorophore cause acts on ("emission_shift:FAD" -> "FAD"; "" for global causes).
