@@ -191,3 +191,34 @@ TEST(DiagnoseLayered, RenderedStackIsRecoveredAndBeatsTheSurfaceFilter) {
               d.floor.rmse);
   EXPECT_LT(rb, 2 * d.floor.rmse);
 }
+
+TEST(DiagnoseLayered, BadSitesAreInputErrorsNamingTheField) {
+  SpectraSet set;
+  set.index_file = "layered-bad";
+  set.spectra.push_back(spectrum("S1", "405", 1));
+  auto error_of = [&](const SpectraModel& m) {
+    try {
+      SpectraProblem p(set, m);
+    } catch (const InputError& e) {
+      return e.describe();
+    }
+    return std::string("no error");
+  };
+  SpectraModel m = layered_model({0.1, 0.2}, {0.01, 0.02}, {0.8});
+  m.layered.sites[0].material = {{"preset", "no_such_preset"}};
+  std::string e = error_of(m);
+  EXPECT_NE(e.find("test model: /layered_tissue/sites/tongue: the layered_tissue material does not load (at /preset): no layered "
+                   "tissue preset \"no_such_preset\""), std::string::npos) << e;
+  m = layered_model({0.1, 0.2}, {0.01, 0.02}, {0.8});
+  m.layered.epithelium = "keratin";
+  e = error_of(m);
+  EXPECT_NE(e.find("/layered_tissue/sites/tongue: the material has no layer named \"keratin\""), std::string::npos) << e;
+  m = layered_model({0.1, 0.2}, {0.01, 0.02}, {0.8});
+  m.layered.sites[0].material = {{"preset", "lateral_tongue"}, {"layers", {{"epithelium", {{"ior", "x"}}}}}};
+  e = error_of(m);
+  EXPECT_NE(e.find("(at /layers/0/ior): expected a number"), std::string::npos) << e;
+  m = layered_model({0.1, 0.2}, {0.01, 0.02}, {0.8});
+  m.shared_by = {"nocolumn"};
+  e = error_of(m);
+  EXPECT_NE(e.find("/shared_concentrations: column \"nocolumn\" is empty or missing for every spectrum"), std::string::npos) << e;
+}

@@ -90,22 +90,31 @@ LayeredSite::LayeredSite(const LayeredSiteSpec& spec, const LayeredCauseOptions&
   for (auto* axis : {&opt_.thickness_mm, &opt_.blood_fraction, &opt_.saturation})
     if (axis->empty() || !std::is_sorted(axis->begin(), axis->end()))
       throw InputError(spec.source, where, "the parameter grids must be non-empty and increasing");
+  for (auto& e : eems) {
+    auto a = e.photon_albedo();
+    a_peak_.push_back(*std::max_element(a.begin(), a.end()));
+    absorb_.push_back(std::move(a));
+  }
+  // The layers (the preset's and the material's own): the fitted epithelium and the blood layers.
+  // A preset that does not exist is left to the load below, which names it with the presets there are.
+  std::vector<nlohmann::json> layers;
+  try {
+    layers = named_layers(spec.material);
+  } catch (const InputError&) {
+  }
   bool epithelium = false;
-  for (auto& l : named_layers(spec.material)) {
+  for (auto& l : layers) {
     std::string n = l.value("name", "");
     if (n == opt_.epithelium) epithelium = true;
     if (l.contains("absorption") && l["absorption"].is_object() && l["absorption"].contains("blood") &&
         std::find(blood_layers_.begin(), blood_layers_.end(), n) == blood_layers_.end())
       blood_layers_.push_back(n);
   }
-  if (!epithelium) throw InputError(spec.source, where, "the material has no layer named \"" + opt_.epithelium + "\" (the layer whose thickness is fitted)");
-  if (blood_layers_.empty()) throw InputError(spec.source, where, "no layer of the material holds blood (absorption.blood), so its blood cannot be fitted");
-  for (auto& e : eems) {
-    auto a = e.photon_albedo();
-    a_peak_.push_back(*std::max_element(a.begin(), a.end()));
-    absorb_.push_back(std::move(a));
-  }
-  // Which fluorophores the stack holds: from the material itself, loaded once (this also checks it).
+  if (!layers.empty() && !epithelium)
+    throw InputError(spec.source, where, "the material has no layer named \"" + opt_.epithelium + "\" (the layer whose thickness is fitted)");
+  if (!layers.empty() && blood_layers_.empty())
+    throw InputError(spec.source, where, "no layer of the material holds blood (absorption.blood), so its blood cannot be fitted");
+  // The material loads (this checks it, the preset name included) and holds which fluorophores.
   std::array<double, 3> mid = {opt_.thickness_mm[opt_.thickness_mm.size() / 2], opt_.blood_fraction[opt_.blood_fraction.size() / 2],
                                opt_.saturation[opt_.saturation.size() / 2]};
   held_.assign(names.size(), false);
@@ -115,9 +124,14 @@ LayeredSite::LayeredSite(const LayeredSiteSpec& spec, const LayeredCauseOptions&
     sc = load_scene(JsonFile::from(flat_patch_scene(material(mid, false), cg, std::vector<double>(cg.size(), 1.0), cg.min_nm, cg.max_nm),
                                    spec.source + where));
   } catch (const InputError& e) {
-    throw InputError(spec.source, where, std::string("the layered_tissue material does not load: ") + e.what());
+    std::string at = e.field();
+    const std::string prefix = "/materials/patch";
+    if (at.rfind(prefix, 0) == 0) at = at.substr(prefix.size());
+    throw InputError(spec.source, where,
+                     "the layered_tissue material does not load" + (at.empty() ? std::string() : " (at " + at + ")") + ": " + e.what());
   }
   if (sc.materials.empty() || !sc.materials[0].stack.enabled) throw InputError(spec.source, where, "is not a layered_tissue material");
+  if (layers.empty()) throw InputError(spec.source, where, "the material has no layers (give a preset or \"layers\")");
   for (auto& L : sc.materials[0].stack.layers)
     for (auto& f : L.fluorophores)
       for (size_t k = 0; k < names.size(); ++k)
