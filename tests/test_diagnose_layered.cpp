@@ -117,24 +117,13 @@ TEST(DiagnoseLayered, RenderedStackIsRecoveredAndBeatsTheSurfaceFilter) {
     for (auto& L : model.lights)
       for (int loc = 1; loc <= 2; ++loc) set.spectra.push_back(spectrum("S" + std::to_string(s + 1), L.when.at("light_nm"), loc));
   SpectraProblem tmpl(set, model);
-  std::mt19937_64 rng(11);
-  std::normal_distribution<double> gauss;
   PatchRenderOptions gen;
   gen.resolution = 16;
   gen.spp = 256;
+  gen.seed = 200;
   nlohmann::json mat = tmpl.layered_sites()[0]->material(truth);
   mat["table_photons"] = kTablePhotons;  // the same stack (and table) as the first test
-  for (int i = 0; i < tmpl.num_items(); ++i) {
-    gen.seed = 200 + i;
-    Eigen::VectorXd y = tmpl.instrument_design(ModelState{}, i, render_item_patch(tmpl, i, mat, gen)).A.col(0);
-    const double mean = y.mean();
-    ASSERT_GT(mean, 0);
-    auto& sp = set.spectra[i];
-    for (size_t k = 0; k < sp.nm.size(); ++k) {
-      double v = y[Eigen::Index(k)];
-      sp.value[k] = v + 0.01 * std::sqrt(std::max(0.0, v) * mean) * gauss(rng);
-    }
-  }
+  render_measurements(tmpl, set, [&](int) { return mat; }, ModelState{}, gen, 0.01, 11);
   model.shared_by = {"subject", "site"};  // one set of amounts per subject's tongue for all three LEDs
   SpectraProblem p(set, model);
   SelectionOptions sel;

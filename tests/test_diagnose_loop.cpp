@@ -69,27 +69,19 @@ TEST(DiagnoseLoop, RenderedBloodIsFoundAndTheRebuiltMaterialReproducesTheData) {
   // Measurements: the rendered patch through the long-pass (a template problem gives the LED and
   // filter on the model grid), every location its own render seed, plus 1 % shot-like noise.
   SpectraProblem tmpl(set, model);
-  std::mt19937_64 rng(7);
-  std::normal_distribution<double> gauss;
   PatchRenderOptions gen;
   gen.resolution = 24;
   gen.spp = 256;
-  for (int i = 0; i < tmpl.num_items(); ++i) {
-    int s = std::stoi(tmpl.condition(i, "subject").substr(1)) - 1;
-    nlohmann::json mat = tissue_material("tongue", subjects[s]);
-    mat["blood"] = {{"oxy_uM_cm", truth.oxy_uM_cm}, {"deoxy_uM_cm", truth.deoxy_uM_cm}, {"excitation_path_factor", 0.0}};
-    gen.seed = 100 + i;
-    std::vector<double> radiance = render_item_patch(tmpl, i, mat, gen);
-    Eigen::VectorXd y = tmpl.instrument_design(baseline_state(tmpl), i, radiance).A.col(0);
-    double mean = y.mean();
-    ASSERT_GT(mean, 0);
-    auto& sp = set.spectra[i];
-    ASSERT_EQ(static_cast<size_t>(y.size()), sp.nm.size());
-    for (size_t k = 0; k < sp.nm.size(); ++k) {
-      double v = y[static_cast<Eigen::Index>(k)];
-      sp.value[k] = v + 0.01 * std::sqrt(std::max(0.0, v) * mean) * gauss(rng);
-    }
-  }
+  gen.seed = 100;
+  render_measurements(
+      tmpl, set,
+      [&](int i) {
+        int s = std::stoi(tmpl.condition(i, "subject").substr(1)) - 1;
+        nlohmann::json mat = tissue_material("tongue", subjects[s]);
+        mat["blood"] = {{"oxy_uM_cm", truth.oxy_uM_cm}, {"deoxy_uM_cm", truth.deoxy_uM_cm}, {"excitation_path_factor", 0.0}};
+        return mat;
+      },
+      baseline_state(tmpl), gen, 0.01, 7);
 
   // The diagnosis: cross-validation over subjects, replicates = the two locations.
   SpectraProblem p(set, model);

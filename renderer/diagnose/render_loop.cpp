@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <random>
 #include <set>
 #include <stdexcept>
 
@@ -219,6 +220,25 @@ nlohmann::json state_report(const SpectraProblem& p, const ModelState& state, co
           {"model_options", {{"blood_excitation_path_factor", p.model().candidates.blood_excitation_path_factor},
                              {"fit_range_nm", {p.model().fit_min_nm, p.model().fit_max_nm}},
                              {"fluorophores", p.model().fluorophores}}}};
+}
+
+void render_measurements(const SpectraProblem& tmpl, SpectraSet& set, const std::function<nlohmann::json(int)>& material,
+                         const ModelState& instrument, const PatchRenderOptions& gen, double noise, uint64_t rng_seed) {
+  std::mt19937_64 rng(rng_seed);
+  std::normal_distribution<double> gauss;
+  for (int i = 0; i < tmpl.num_items(); ++i) {
+    PatchRenderOptions o = gen;
+    o.seed = gen.seed + uint64_t(i);
+    Eigen::VectorXd y = tmpl.instrument_design(instrument, i, render_item_patch(tmpl, i, material(i), o)).A.col(0);
+    const double mean = y.mean();
+    auto& sp = set.spectra[size_t(i)];
+    if (!(mean > 0)) throw std::runtime_error("render_measurements: the render of " + tmpl.item_label(i) + " is dark");
+    if (size_t(y.size()) != sp.nm.size()) throw std::logic_error("render_measurements: the set does not match the template");
+    for (size_t k = 0; k < sp.nm.size(); ++k) {
+      double v = y[Eigen::Index(k)];
+      sp.value[k] = v + noise * std::sqrt(std::max(0.0, v) * mean) * gauss(rng);
+    }
+  }
 }
 
 Eigen::VectorXd modelled_spectrum(const SpectraProblem& p, const ModelState& state, int item,

@@ -14,6 +14,7 @@
 // many spectra (`joint_concentrations`, each spectrum with its own scale and leak amplitude).
 #pragma once
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <string>
 #include <vector>
@@ -97,6 +98,14 @@ nlohmann::json fitted_material(const SpectraProblem& p, const ModelState& state,
 // free amplitudes: what a render of the same material should equal.
 Eigen::VectorXd modelled_spectrum(const SpectraProblem& p, const ModelState& state, int item,
                                   const std::map<std::string, double>& amounts);
+
+// Measurements made by the renderer (tests with a known tissue): for every item of `tmpl` (whose
+// spectra `set` holds, in the same order), the flat patch of material(item) rendered with seed
+// `gen.seed + item`, through the instrument of `instrument`, sampled at the item's wavelengths,
+// plus shot-like noise of relative size `noise` (sigma = noise sqrt(v mean)) from `rng_seed`.
+// Throws std::runtime_error when a render is dark.
+void render_measurements(const SpectraProblem& tmpl, SpectraSet& set, const std::function<nlohmann::json(int)>& material,
+                         const ModelState& instrument, const PatchRenderOptions& gen, double noise, uint64_t rng_seed);
 
 // Pooled RMSE of residuals: sqrt(sum r^2 / number of residuals).
 double pooled_rmse(const std::vector<ItemFit>& fits, const std::vector<int>& items);
