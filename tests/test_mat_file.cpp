@@ -133,6 +133,17 @@ TEST(MatFile, Mat4IsReadAndItsSizesAreCheckedBeforeLibmatio) {
   e = input_error_of([&] { read_mat_file(mi); });
   EXPECT_NE(e.find(mi.string() + ": variable 1: name of 1887007744 bytes but only 108 bytes of the file are left"), std::string::npos)
       << e;
+  // fuzz_mat (2026-11-26, third campaign): a sparse MAT 4 variable (type 2) of 603979776 rows and 0
+  // columns: libmatio sized its index array by the rows, 2.4 GB from 50 bytes
+  // (regressions/mat/mat4_sparse_rows_2.4GB.mat). Sparse is checked as at least 3 columns.
+  auto sparse = tmp_dir() / "v4_sparse.mat";
+  {
+    std::string b = std::string("\0\0\0\x02\0\0\0\x24", 8) + std::string(6, '\0') + std::string("\x18\0\x01\0\0\0", 6) +
+                    std::string(30, '\0');
+    std::ofstream(sparse, std::ios::binary) << b;
+  }
+  e = input_error_of([&] { read_mat_file(sparse); });
+  EXPECT_NE(e.find(sparse.string() + ": variable 1: 603979776x3 sparse complex elements of 8 bytes but only"), std::string::npos) << e;
   // The second variable claims 100000 x 100000 doubles behind 8 bytes.
   auto data = tmp_dir() / "v4_data.mat";
   std::ofstream(data, std::ios::binary) << mat4_variable("wave", 1, 3, {400, 410, 420}) + mat4_variable("k", 100000, 100000, {1});
