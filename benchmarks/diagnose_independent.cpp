@@ -2,7 +2,7 @@
 // independent of its forward model (tests/independent_spectra.h), per hidden cause, with 95 %
 // bounds (Wilson score interval). Issue 12, item 4.
 //   usage: diagnose_independent [seeds per effect] [effect ...]
-// Prints a markdown table (the rows of benchmarks/results.d/45_diagnose_independent.md).
+// Prints a markdown table (the rows of benchmarks/results.d/25_diagnose_independent.md).
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -47,6 +47,8 @@ int main(int argc, char** argv) {
       {"offset", "stray_light", "fraction", 0.1},  // relative
       {"excitation_leak", "longpass_leak", "effective_od", 0.0414},
       {"unknown_fluorophore", "unknown_band", "center_nm", 5.0},
+      {"unknown_fluorophore/wavelength", "unknown_band", "center_nm", 5.0},
+      {"unknown_fluorophore/skewed", "unknown_band", "center_nm", 5.0},
       {"subset_chlorophyll", "extra_fluorophore:chlorophyll_a", "", 0},
       {"", "", "", 0},
   };
@@ -62,6 +64,10 @@ int main(int argc, char** argv) {
     for (int s = 0; s < seeds; ++s) {
       indep::Options o;
       o.effect = e.effect;
+      if (auto slash = e.effect.find('/'); slash != std::string::npos) {  // effect/band shape
+        o.effect = e.effect.substr(0, slash);
+        o.band_shape = e.effect.substr(slash + 1);
+      }
       o.seed = 1000 + 37 * s;
       indep::Data d = indep::make_independent(o);
       SpectraProblem p(d.set, d.model);

@@ -38,6 +38,10 @@ struct Options {
   int locations = 2;
   double noise_relative = 0.01, noise_floor = 0.002, jitter = 0.05;
   double white_leak = 1.0;  // scale of the white-target leak every spectrum carries (1: about 1 % of the signal)
+  // Shape of the unknown fluorophore's band: "wavenumber" (Gaussian in wavenumber, 1500 cm^-1
+  // FWHM), "wavelength" (Gaussian in wavelength, 50 nm FWHM), "skewed" (two half Gaussians in
+  // wavelength, 18 nm to the blue and 36 nm to the red of the peak).
+  std::string band_shape = "wavenumber";
 };
 
 struct Data {
@@ -169,8 +173,18 @@ inline Data make_independent(const Options& o) {
     double tmin = 1e-6, peak = 0.95, s = 5.0 / 4.394;
     return tmin + (peak - tmin) / (1 + std::exp(-(w - 475) / s));
   };
-  // A band in no library spectrum: Gaussian in wavenumber, 1500 cm^-1 FWHM.
+  // A band in no library spectrum, in one of three shapes none of which is the model's log-normal
+  // (the Gaussian in wavenumber is its symmetric limit).
   auto band = [&](double w) {
+    if (o.band_shape == "wavelength") {
+      double s = 50 / 2.3548;
+      return std::exp(-0.5 * (w - band_peak) * (w - band_peak) / (s * s));
+    }
+    if (o.band_shape == "skewed") {
+      double s = (w < band_peak ? 18 : 36) / 2.3548;
+      return std::exp(-0.5 * (w - band_peak) * (w - band_peak) / (s * s));
+    }
+    if (o.band_shape != "wavenumber") throw std::invalid_argument("independent generator: unknown band shape " + o.band_shape);
     double k = 1e7 / w, k0 = 1e7 / band_peak, s = 1500 / 2.3548;
     return std::exp(-0.5 * (k - k0) * (k - k0) / (s * s)) / (w * w);  // per nm (Jacobian dk/dl)
   };

@@ -99,18 +99,30 @@ TEST(DiagnoseIndependent, ExcitationLeakIsNamedAloneWithItsSize) {
 }
 
 TEST(DiagnoseIndependent, AnUnknownBandIsFoundWithinFiveNanometres) {
-  auto data = make("unknown_fluorophore", 25, 600);
-  Outcome r = diagnose_independent(data);
-  const CauseResult* band = nullptr;
-  for (auto& c : r.d.causes)
-    if (r.p->candidates()[c.candidate].id == "unknown_band") band = &c;
-  ASSERT_NE(band, nullptr) << r.all();
-  EXPECT_NEAR(cause_estimate(*r.p, *band, "center_nm").value, data.truth.at("peak_nm"), 5.0) << r.all();
-  // The free-form estimate (curve resolution of the residuals) peaks there too.
-  UnknownBandReport ub = unknown_band_report(*r.p, r.d);
-  ASSERT_TRUE(ub.accepted && ub.estimate.found);
-  EXPECT_NEAR(ub.estimate.peak_nm, data.truth.at("peak_nm"), 5.0);
-  EXPECT_GT(ub.estimate.mean_fraction, 0.03);
+  // Two shapes the model does not have: a Gaussian in wavenumber (the symmetric limit of its
+  // log-normal) and a band skewed in wavelength (half widths 18 and 36 nm). Named alone: before the
+  // band was log-normal (a Gaussian in wavelength) stray light followed it in 2 of 4 benchmark runs.
+  for (const char* shape : {"wavenumber", "skewed"}) {
+    SCOPED_TRACE(shape);
+    indep::Options o;
+    o.effect = "unknown_fluorophore";
+    o.seed = 25;
+    o.magnitude = 600;
+    o.band_shape = shape;
+    auto data = indep::make_independent(o);
+    Outcome r = diagnose_independent(data);
+    const CauseResult* band = nullptr;
+    for (auto& c : r.d.causes)
+      if (r.p->candidates()[c.candidate].id == "unknown_band") band = &c;
+    ASSERT_NE(band, nullptr) << r.all();
+    EXPECT_EQ(r.d.causes.size(), 1u) << r.all();
+    EXPECT_NEAR(cause_estimate(*r.p, *band, "center_nm").value, data.truth.at("peak_nm"), 5.0) << r.all();
+    // The free-form estimate (curve resolution of the residuals) peaks there too.
+    UnknownBandReport ub = unknown_band_report(*r.p, r.d);
+    ASSERT_TRUE(ub.accepted && ub.estimate.found);
+    EXPECT_NEAR(ub.estimate.peak_nm, data.truth.at("peak_nm"), 5.0);
+    EXPECT_GT(ub.estimate.mean_fraction, 0.03);
+  }
 }
 
 TEST(DiagnoseIndependent, ACauseOfOneSubjectIsFoundAndAttributedToIt) {

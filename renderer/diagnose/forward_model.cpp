@@ -27,7 +27,7 @@ struct SpectraProblem::Effects {
   };
   std::map<int, Shape> shape;  // per fluorophore (index into eems_)
   bool unknown = false;
-  double unknown_center = 0, unknown_fwhm = 0;
+  double unknown_center = 0, unknown_fwhm = 0, unknown_asymmetry = 1;
   std::vector<double> response;  // log-gain at the response knots (empty: none)
   std::vector<std::array<double, 3>> layered;  // per site: thickness, blood fraction, saturation (empty: none)
 };
@@ -108,6 +108,50 @@ std::vector<double> gaussian_band(const WavelengthGrid& g, double center_nm, dou
   return v;
 }
 
+std::vector<double> lognormal_band(const WavelengthGrid& g, double peak_nm, double fwhm_nm, double asymmetry) {
+  // Siano & Metzler's log-normal band (J. Chem. Phys. 51, 1856 (1969)) in wavenumber nu:
+  //   I(nu) = exp(-ln2 / ln^2(rho) * ln^2((a - nu) / (a - nu0))),  a = nu0 + H rho / (rho^2 - 1),
+  // zero beyond a; rho is the ratio of the low- to the high-wavenumber half width, H the FWHM.
+  // Its area is H rho/(rho^2-1) ln(rho) sqrt(pi/ln2) exp(ln^2(rho)/(4 ln2)); rho -> 1 is the
+  // Gaussian in wavenumber. Per nm it is I(nu(l)) * 1e7 / l^2 (same area), whose maximum lies
+  // delta above nu0 in wavenumber: d/dnu [ln I + 2 ln nu] = 0 at nu_p = 1e7 / peak_nm, i.e.
+  //   c nu_p ln(1 - delta/s) + s - delta = 0   (s = a - nu0, c = ln2 / ln^2 rho),
+  //   delta = 2 sigma^2 / nu_p for the Gaussian; solved by Newton, so peak_nm is the peak one sees
+  // on a plot per nm.
+  const double ln2 = std::log(2.0), nup = 1e7 / peak_nm, H = std::max(1e7 * fwhm_nm / (peak_nm * peak_nm), 1e-3);
+  const double rho = std::max(asymmetry, 1e-3), lr = std::log(rho);
+  const bool gauss = std::fabs(lr) < 1e-4;
+  const double span = gauss ? 0 : H * rho / (rho * rho - 1);
+  const double c = gauss ? 0 : ln2 / (lr * lr), sigma = H / (2 * std::sqrt(2 * ln2));
+  double delta = 2 * sigma * sigma / nup;
+  if (!gauss)
+    for (int it = 0; it < 30; ++it) {
+      double q = 1 - delta / span;
+      if (q <= 0) { delta = 0.5 * (delta + span * (1 - 1e-9)); continue; }  // stay inside the band
+      double h = c * nup * std::log(q) + span - delta, dh = -c * nup / (span - delta) - 1;
+      double step = h / dh;
+      delta -= step;
+      if (std::fabs(step) < 1e-9 * H) break;
+    }
+  const double nu0 = nup - delta, a = nu0 + span;
+  const double area = gauss ? H * std::sqrt(M_PI / (4 * ln2)) : span * lr * std::sqrt(M_PI / ln2) * std::exp(lr * lr / (4 * ln2));
+  std::vector<double> v(g.size(), 0.0);
+  for (int i = 0; i < g.size(); ++i) {
+    const double l = g.wavelength(i), nu = 1e7 / l;
+    double f;
+    if (gauss) {
+      f = std::exp(-0.5 * (nu - nu0) * (nu - nu0) / (sigma * sigma));
+    } else {
+      const double r = (a - nu) / span;
+      if (r <= 0) continue;
+      const double t = std::log(r);
+      f = std::exp(-c * t * t);
+    }
+    v[i] = f / area * 1e7 / (l * l) * g.step_nm;
+  }
+  return v;
+}
+
 double piecewise_linear(const std::vector<double>& x, const std::vector<double>& y, double at) {
   if (x.empty()) return 0;
   if (at <= x.front()) return y.front();
@@ -115,22 +159,6 @@ double piecewise_linear(const std::vector<double>& x, const std::vector<double>&
   size_t k = std::upper_bound(x.begin(), x.end(), at) - x.begin();
   double t = (at - x[k - 1]) / (x[k] - x[k - 1]);
   return y[k - 1] * (1 - t) + y[k] * t;
-}
-
-void remove_leak_floor(std::vector<double>& leak, const WavelengthGrid& g) {
-  // A white target's spectrum through the long-pass holds the excitation light that leaks and the
-  // instrument's own flat floor (dark offset, stray light). The floor is what the stray_light cause
-  // models; left in the leak column it would let the leak's free amplitude absorb any offset.
-  // Floor: the median beyond 600 nm, where no LED light of this kind passes a blue long-pass.
-  std::vector<double> tail;
-  for (int i = 0; i < g.size(); ++i)
-    if (g.wavelength(i) >= 600 && std::isfinite(leak[i])) tail.push_back(leak[i]);
-  double floor = 0;
-  if (tail.size() >= 5) {
-    std::nth_element(tail.begin(), tail.begin() + tail.size() / 2, tail.end());
-    floor = tail[tail.size() / 2];
-  }
-  for (double& v : leak) v = std::max(v - std::max(floor, 0.0), 0.0);
 }
 
 int match_light(const std::vector<LightEntry>& lights, const std::map<std::string, std::string>& row,
@@ -221,10 +249,11 @@ SpectraProblem::SpectraProblem(SpectraSet data, SpectraModel model) : data_(std:
       for (int i = 0; i < N; ++i) col[i] /= grid_.wavelength(i);
       b.fluor.push_back(std::move(col));
     }
-    if (L.leak) {
-      b.leak = tabulate(*L.leak, grid_);
-      remove_leak_floor(b.leak, grid_);
-    }
+    // The white-target record through the long-pass is kept whole: beyond the LED band it holds a
+    // broad floor (480-800 nm) that is 0.28-0.31 of the 480-500 nm level at every current of an LED
+    // (405 nm: 90, 560, 980 mA), i.e. light the LED puts through the filters, which scales with the
+    // reflected excitation like the rest of the leak, not a dark offset of the instrument.
+    if (L.leak) b.leak = tabulate(*L.leak, grid_);
     b.e = std::move(e);
     lights_.push_back(std::move(b));
   }
@@ -370,6 +399,7 @@ SpectraProblem::Effects SpectraProblem::decode(const ModelState& s) const {
         fx.unknown = true;
         fx.unknown_center = a.theta[0];
         fx.unknown_fwhm = a.theta[1];
+        fx.unknown_asymmetry = a.theta[2];
         break;
       case SpectraCause::kResponse: fx.response = a.theta; break;
       case SpectraCause::kLayered:
@@ -499,7 +529,7 @@ std::vector<std::vector<double>> SpectraProblem::grid_columns(int light, int sit
     if (names) names->push_back(eem_names_[k]);
   }
   if (fx.unknown) {
-    auto col = gaussian_band(grid_, fx.unknown_center, fx.unknown_fwhm);
+    auto col = lognormal_band(grid_, fx.unknown_center, fx.unknown_fwhm, fx.unknown_asymmetry);
     for (int i = 0; i < N; ++i) col[i] *= tb[i] * tlp[i];
     cols.push_back(std::move(col));
     if (names) names->push_back("unknown_band");
@@ -746,8 +776,9 @@ std::string SpectraProblem::plain_words(const CandidateSpec& c, const std::vecto
              pm(th[1], u[1], "%.1f") + " nm FWHM, carrying " + pm(100 * th[2], 100 * u[2], "%.0f") +
              "% of the main band's energy (bounds: 25-100 nm beyond the main peak, 10-50 nm wide, 0-150 %).";
     case SpectraCause::kUnknownBand:
-      return "An emission band that no library spectrum has: centre " + pm(th[0], u[0], "%.1f") + " nm, FWHM " +
-             pm(th[1], u[1], "%.1f") + " nm" + (d.empty() ? std::string(".") : ", " + fmt("%.1f", 100 * d[0].value) + "% of the signal on average.");
+      return "An emission band that no library spectrum has: peak " + pm(th[0], u[0], "%.1f") + " nm, FWHM " +
+             pm(th[1], u[1], "%.1f") + " nm, red/blue half-width ratio " + pm(th[2], u[2], "%.2f") +
+             " (log-normal in wavenumber; 1 = Gaussian)" + (d.empty() ? std::string(".") : ", " + fmt("%.1f", 100 * d[0].value) + "% of the signal on average.");
     case SpectraCause::kResponse: {
       auto knots = response_knots(range_);
       std::string s = "The instrument's spectral responsivity differs from the one assumed by a smooth factor (an instrument "

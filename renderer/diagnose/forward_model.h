@@ -155,13 +155,14 @@ class SpectraProblem : public DiagnoseProblem {
 // The layered_tissue cause's parameters of one site (thickness mm, oxy and deoxy blood volume
 // fractions) as the stack's (thickness, blood fraction, saturation; saturation 1 without blood).
 std::array<double, 3> layered_theta(const double* site_params);
-// Removes a measured white-target leak spectrum's flat instrument floor (median beyond 600 nm),
-// clipping at zero: the column keeps only the excitation light that leaks.
-void remove_leak_floor(std::vector<double>& leak, const WavelengthGrid& g);
 // Emission peak (energy units) of a fluorophore under its most efficient excitation.
 double emission_peak_nm(const GridEem& e);
 // A Gaussian band on the grid, unit area (per nm x step).
 std::vector<double> gaussian_band(const WavelengthGrid& g, double center_nm, double fwhm_nm);
+// An emission band on the grid, unit area (per nm x step): log-normal in wavenumber (Siano &
+// Metzler) whose energy per nm peaks at peak_nm, FWHM H = 1e7 fwhm_nm / peak_nm^2 in wavenumber, and `asymmetry` = low- over high-wavenumber half width (> 1: a red tail; 1: Gaussian
+// in wavenumber).
+std::vector<double> lognormal_band(const WavelengthGrid& g, double peak_nm, double fwhm_nm, double asymmetry);
 // Linear interpolation in a table (x increasing), constant beyond its ends.
 double piecewise_linear(const std::vector<double>& x, const std::vector<double>& y, double at);
 

@@ -144,7 +144,8 @@ std::vector<CandidateSpec> spectra_candidates(const SpectraCandidateOptions& o, 
     for (double x = range.min_nm + 15; x <= range.max_nm - 10; x += 15) centres.push_back(x);
     CandidateSpec u{"unknown_band", "unknown_band", "an emission band in no library spectrum",
                     {param("center_nm", "nm", 0.5 * (range.min_nm + range.max_nm), range.min_nm, range.max_nm, 0.05, centres),
-                     param("fwhm_nm", "nm", 40, 8, 150, 0.05, {25, 50, 90})},
+                     param("fwhm_nm", "nm", 40, 8, 150, 0.05, {25, 50, 90}),
+                     param("asymmetry", "red/blue half-width ratio", 1, 0.4, 2.5, 1e-3)},
                     1};
     u.min_effect_to_noise = kFlexibleMinEffect;
     c.push_back(u);

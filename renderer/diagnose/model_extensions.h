@@ -15,8 +15,10 @@
 //   second_band:X        a second emission band of X (e.g. porphyrin's ~700 nm band): a Gaussian
 //                        at center_nm (25-100 nm beyond X's peak), fwhm_nm (10-50 nm), with
 //                        `ratio` times X's emitted energy (0-1.5); it scales with X
-//   unknown_band         an emission band in no library spectrum: Gaussian center_nm, fwhm_nm and
-//                        one amplitude per spectrum (found by a start grid; the free-form shape is
+//   unknown_band         an emission band in no library spectrum: log-normal in wavenumber (the
+//                        band shape of fluorescence, Siano & Metzler 1969) with center_nm (peak),
+//                        fwhm_nm (8-150 nm), asymmetry (red/blue half-width ratio 0.4-2.5, 1 =
+//                        Gaussian in wavenumber) and one amplitude per spectrum (found by a start grid; the free-form shape is
 //                        estimated by unknown_band.h)
 //   layered_tissue       each site's tissue is a layered stack (layered_site.h): per site
 //                        thickness_mm:<site>, blood_fraction:<site>, saturation:<site>; the
