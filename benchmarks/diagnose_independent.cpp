@@ -51,11 +51,13 @@ int main(int argc, char** argv) {
       {"unknown_fluorophore/skewed", "unknown_band", "center_nm", 5.0},
       {"subset_chlorophyll", "extra_fluorophore:chlorophyll_a", "", 0},
       {"", "", "", 0},
+      {"/edge", "", "", 0},
+      {"/response", "", "", 0},
   };
   std::vector<Expect> run;
   for (int a = 2; a < argc; ++a)
     for (auto& e : all)
-      if (e.effect == argv[a] || (std::string(argv[a]) == "null" && e.effect.empty())) run.push_back(e);
+      if (e.effect == argv[a] || (std::string(argv[a]) == "null" && (e.effect.empty() || e.effect[0] == '/'))) run.push_back(e);
   if (run.empty()) run = all;
   std::printf("| hidden effect | runs | named first | named first, nothing else | parameter within tolerance | tissue cause claimed |\n");
   std::printf("|---|---|---|---|---|---|\n");
@@ -64,10 +66,11 @@ int main(int argc, char** argv) {
     for (int s = 0; s < seeds; ++s) {
       indep::Options o;
       o.effect = e.effect;
-      if (auto slash = e.effect.find('/'); slash != std::string::npos) {  // effect/band shape
+      if (auto slash = e.effect.find('/'); slash != std::string::npos) {  // effect/band shape, or /instrument error
         o.effect = e.effect.substr(0, slash);
-        o.band_shape = e.effect.substr(slash + 1);
+        (o.effect.empty() ? o.instrument_error : o.band_shape) = e.effect.substr(slash + 1);
       }
+      const bool null_data = o.effect.empty();
       o.seed = 1000 + 37 * s;
       indep::Data d = indep::make_independent(o);
       SpectraProblem p(d.set, d.model);
@@ -79,9 +82,11 @@ int main(int argc, char** argv) {
       Diagnosis dg = diagnose(p, so);
       std::string named = dg.causes.empty() ? "" : p.candidates()[dg.causes[0].candidate].id;
       bool ok_first = named == e.cause;
-      for (auto& c : dg.causes) tissue += !e.effect.empty() ? 0 : !p.candidates()[c.candidate].instrument;
-      if (e.effect.empty()) {
-        std::fprintf(stderr, "null seed %d: %s\n", s, dg.verdict.c_str());
+      bool claimed = false;
+      for (auto& c : dg.causes) claimed = claimed || (null_data && !p.candidates()[c.candidate].instrument);
+      tissue += claimed;
+      if (null_data) {
+        std::fprintf(stderr, "null%s seed %d: %s\n", e.effect.c_str(), s, dg.verdict.c_str());
         continue;
       }
       first += ok_first;
@@ -98,12 +103,18 @@ int main(int argc, char** argv) {
         pok = std::find(car.begin(), car.end(), d.carrier) != car.end();
         std::fprintf(stderr, "%s seed %d: carriers found %zu (truth %s) | %s\n", e.effect.c_str(), s, car.size(), d.carrier.c_str(), dg.verdict.c_str());
       } else {
-        std::fprintf(stderr, "%s seed %d: %s\n", e.effect.c_str(), s, dg.verdict.c_str());
+        std::string truth;
+        for (auto& [k, v] : d.truth) truth += " " + k + " " + std::to_string(v);
+        std::fprintf(stderr, "%s seed %d (truth:%s): %s\n", e.effect.c_str(), s, truth.c_str(), dg.verdict.c_str());
       }
       params += pok;
     }
     if (e.effect.empty())
       std::printf("| none (null data) | %d | | | | %s |\n", seeds, rate(tissue, seeds).c_str());
+    else if (e.effect == "/edge")
+      std::printf("| none, long-pass edge 1.5 nm off the model's | %d | | | | %s |\n", seeds, rate(tissue, seeds).c_str());
+    else if (e.effect == "/response")
+      std::printf("| none, responsivity tilted +-6 %% | %d | | | | %s |\n", seeds, rate(tissue, seeds).c_str());
     else
       std::printf("| %s | %d | %s | %s | %s | |\n", e.effect.c_str(), seeds, rate(first, seeds).c_str(), rate(only, seeds).c_str(),
                   rate(params, seeds).c_str());

@@ -42,6 +42,10 @@ struct Options {
   // FWHM), "wavelength" (Gaussian in wavelength, 50 nm FWHM), "skewed" (two half Gaussians in
   // wavelength, 18 nm to the blue and 36 nm to the red of the peak).
   std::string band_shape = "wavenumber";
+  // The instrument slightly other than the model describes it (null data otherwise; no tissue cause
+  // may be claimed): "" (as described), "edge" (the long-pass edge 1.5 nm to the red of the stated
+  // 475 nm), "response" (the recorded spectral responsivity tilted by -6 % at 470 nm to +6 % at 730 nm).
+  std::string instrument_error;
 };
 
 struct Data {
@@ -162,6 +166,8 @@ inline Data make_independent(const Options& o) {
   } else if (!o.effect.empty()) {
     throw std::invalid_argument("independent generator: unknown effect " + o.effect);
   }
+  if (!o.instrument_error.empty() && o.instrument_error != "edge" && o.instrument_error != "response")
+    throw std::invalid_argument("independent generator: unknown instrument error " + o.instrument_error);
 
   // 0.5 nm generation grid.
   std::vector<double> g;
@@ -171,7 +177,8 @@ inline Data make_independent(const Options& o) {
   // Logistic long-pass in transmittance: 10-90 % rise over width_nm.
   auto longpass = [&](double w) {
     double tmin = 1e-6, peak = 0.95, s = 5.0 / 4.394;
-    return tmin + (peak - tmin) / (1 + std::exp(-(w - 475) / s));
+    double edge = 475 + (o.instrument_error == "edge" ? 1.5 : 0.0);
+    return tmin + (peak - tmin) / (1 + std::exp(-(w - edge) / s));
   };
   // A band in no library spectrum, in one of three shapes none of which is the model's log-normal
   // (the Gaussian in wavenumber is its symmetric limit).
@@ -289,6 +296,7 @@ inline Data make_independent(const Options& o) {
           ms.index_line = static_cast<int>(d.set.spectra.size()) + 2;
           for (double w = 381.5; w <= 779; w += 3) {
             double y = lerp_table(g, rec, w - axis);
+            if (o.instrument_error == "response") y *= 1 + 0.06 * (w - 600) / 130;
             y += (o.noise_relative * std::sqrt(std::max(0.0, y) * sig_mean) + o.noise_floor * sig_mean) * normal(rng);
             ms.nm.push_back(w);
             ms.value.push_back(y);

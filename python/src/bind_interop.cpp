@@ -101,7 +101,8 @@ py::dict read_spectrum_file(const std::string& path) {
 
 py::object diagnose(const std::string& input, const std::string& model, const std::vector<std::string>& where,
                     const std::vector<std::string>& groups, std::optional<double> z, std::optional<int> max_causes,
-                    const std::string& report_by, const std::string& out) {
+                    const std::string& report_by, const std::string& out, const std::string& fit_on, const std::string& predict,
+                    const std::vector<std::string>& shared_concentrations) {
   DiagnoseJob job;
   job.input = input;
   job.model = model;
@@ -111,6 +112,9 @@ py::object diagnose(const std::string& input, const std::string& model, const st
   job.max_causes = max_causes;
   job.report_by = report_by;
   job.outdir = out;
+  job.fit_on = fit_on;
+  job.predict = predict;
+  job.shared_concentrations = shared_concentrations;
   job.json = true;
   DiagnoseOutcome r;
   run_without_gil(0, [&] { r = run_diagnose_job(job); });
@@ -152,8 +156,11 @@ void bind_interop(py::module_& m) {
         py::arg("comment") = "", "write an ISETCam spectral file (wavelength, data, filterNames, comment)");
   m.def("diagnose", &diagnose, py::arg("input"), py::arg("model"), py::arg("where") = std::vector<std::string>{},
         py::arg("groups") = std::vector<std::string>{}, py::arg("z") = py::none(), py::arg("max_causes") = py::none(),
-        py::arg("report_by") = "", py::arg("out") = "",
-        "run `oralfluor diagnose` on a folder or CSV with a model file; returns the JSON report as a dict (plus 'text')");
+        py::arg("report_by") = "", py::arg("out") = "", py::arg("fit_on") = "", py::arg("predict") = "",
+        py::arg("shared_concentrations") = std::vector<std::string>{},
+        "run `oralfluor diagnose` on a folder or CSV with a model file; returns the JSON report as a dict (plus 'text'); "
+        "fit_on='subject=B' [predict='subject=Z'] fits on some rows and predicts others with the global parameters fixed "
+        "(CLI --fit-on/--predict); shared_concentrations=['subject','site','date'] fits one set of amounts per visit");
 }
 
 }  // namespace ofl::python

@@ -44,3 +44,8 @@ def test_diagnose_returns_the_cli_report(tmp_path):
     assert py == cli
     with pytest.raises(ofl.InputError, match=r"nope\.json: cannot open file"):
         ofl.diagnose(args[0], str(tmp_path / "nope.json"))
+    # fit_on / predict reach the job as the CLI's --fit-on / --predict do (their checks fire).
+    with pytest.raises(ofl.InputError, match=r"--predict.*needs --fit-on"):
+        ofl.diagnose(args[0], args[2], predict="illuminant=5000K")
+    with pytest.raises(ofl.InputError, match=r"--fit-on"):
+        ofl.diagnose(args[0], args[2], fit_on="illuminant=3000K")
