@@ -2,10 +2,13 @@
 // independent of its forward model (tests/independent_spectra.h), per hidden cause, with 95 %
 // bounds (Wilson score interval). Issue 12, item 4.
 //   usage: diagnose_independent [seeds per effect] [effect ...]
+//   effect: a name below, "null" (the null rows), "name/shape" (unknown band shapes), "/edge" or
+//   "/response" (null data, instrument slightly wrong), "name@size" (fixed size, sign alternating)
 // Prints a markdown table (the rows of benchmarks/results.d/25_diagnose_independent.md).
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <string>
 #include <vector>
 
@@ -53,8 +56,18 @@ int main(int argc, char** argv) {
       {"", "", "", 0},
       {"/edge", "", "", 0},
       {"/response", "", "", 0},
+      {"/edge_width", "", "", 0},
+      {"/blur", "", "", 0},
   };
   std::vector<Expect> run;
+  for (int a = 2; a < argc; ++a)  // "emission_shift@1": that effect at a fixed size (sign alternating)
+    if (const char* at = std::strchr(argv[a], '@'))
+      for (auto& e : all)
+        if (e.effect == std::string(argv[a], static_cast<size_t>(at - argv[a]))) {
+          Expect x = e;
+          x.effect = argv[a];
+          run.push_back(x);
+        }
   for (int a = 2; a < argc; ++a)
     for (auto& e : all)
       if (e.effect == argv[a] || (std::string(argv[a]) == "null" && (e.effect.empty() || e.effect[0] == '/'))) run.push_back(e);
@@ -69,6 +82,10 @@ int main(int argc, char** argv) {
       if (auto slash = e.effect.find('/'); slash != std::string::npos) {  // effect/band shape, or /instrument error
         o.effect = e.effect.substr(0, slash);
         (o.effect.empty() ? o.instrument_error : o.band_shape) = e.effect.substr(slash + 1);
+      }
+      if (auto at = o.effect.find('@'); at != std::string::npos) {  // effect@size: fixed size, sign alternating
+        o.magnitude = std::atof(o.effect.c_str() + at + 1) * (s % 2 ? -1 : 1);
+        o.effect = o.effect.substr(0, at);
       }
       const bool null_data = o.effect.empty();
       o.seed = 1000 + 37 * s;
@@ -115,6 +132,10 @@ int main(int argc, char** argv) {
       std::printf("| none, long-pass edge 1.5 nm off the model's | %d | | | | %s |\n", seeds, rate(tissue, seeds).c_str());
     else if (e.effect == "/response")
       std::printf("| none, responsivity tilted +-6 %% | %d | | | | %s |\n", seeds, rate(tissue, seeds).c_str());
+    else if (e.effect == "/edge_width")
+      std::printf("| none, long-pass rising over 7.5 nm, not 5 | %d | | | | %s |\n", seeds, rate(tissue, seeds).c_str());
+    else if (e.effect == "/blur")
+      std::printf("| none, 3 nm more instrument blur | %d | | | | %s |\n", seeds, rate(tissue, seeds).c_str());
     else
       std::printf("| %s | %d | %s | %s | %s | |\n", e.effect.c_str(), seeds, rate(first, seeds).c_str(), rate(only, seeds).c_str(),
                   rate(params, seeds).c_str());

@@ -44,7 +44,9 @@ struct Options {
   std::string band_shape = "wavenumber";
   // The instrument slightly other than the model describes it (null data otherwise; no tissue cause
   // may be claimed): "" (as described), "edge" (the long-pass edge 1.5 nm to the red of the stated
-  // 475 nm), "response" (the recorded spectral responsivity tilted by -6 % at 470 nm to +6 % at 730 nm).
+  // 475 nm), "response" (the recorded spectral responsivity tilted by -6 % at 470 nm to +6 % at 730 nm),
+  // "edge_width" (the long-pass rises over 7.5 nm, not 5), "blur" (the instrument blurs by 3 nm FWHM
+  // more than stated).
   std::string instrument_error;
 };
 
@@ -166,7 +168,8 @@ inline Data make_independent(const Options& o) {
   } else if (!o.effect.empty()) {
     throw std::invalid_argument("independent generator: unknown effect " + o.effect);
   }
-  if (!o.instrument_error.empty() && o.instrument_error != "edge" && o.instrument_error != "response")
+  if (!o.instrument_error.empty() && o.instrument_error != "edge" && o.instrument_error != "response" &&
+      o.instrument_error != "edge_width" && o.instrument_error != "blur")
     throw std::invalid_argument("independent generator: unknown instrument error " + o.instrument_error);
 
   // 0.5 nm generation grid.
@@ -176,7 +179,7 @@ inline Data make_independent(const Options& o) {
   auto in_fit = [&](double w) { return w >= 480 && w <= 740; };
   // Logistic long-pass in transmittance: 10-90 % rise over width_nm.
   auto longpass = [&](double w) {
-    double tmin = 1e-6, peak = 0.95, s = 5.0 / 4.394;
+    double tmin = 1e-6, peak = 0.95, s = (o.instrument_error == "edge_width" ? 7.5 : 5.0) / 4.394;
     double edge = 475 + (o.instrument_error == "edge" ? 1.5 : 0.0);
     return tmin + (peak - tmin) / (1 + std::exp(-(w - edge) / s));
   };
@@ -287,6 +290,22 @@ inline Data make_independent(const Options& o) {
             if (leak_amp_ex > 0 && e[i] > 1e-3 * emax) rec[i] += e[i] * leak_amp_ex * (1 - longpass(g[i]) / 0.95);
           }
           for (size_t i = 0; i < N; ++i) rec[i] += offset * sig_mean;
+          if (o.instrument_error == "blur") {  // a Gaussian of 3 nm FWHM on the 0.5 nm grid
+            const double sg = 3.0 / 2.3548;
+            std::vector<double> b(N, 0.0);
+            for (size_t i = 0; i < N; ++i) {
+              double wsum = 0;
+              for (int k = -12; k <= 12; ++k) {
+                long j = static_cast<long>(i) + k;
+                if (j < 0 || j >= static_cast<long>(N)) continue;
+                double w = std::exp(-0.5 * (0.5 * k / sg) * (0.5 * k / sg));
+                b[i] += w * rec[j];
+                wsum += w;
+              }
+              b[i] /= wsum;
+            }
+            rec = b;
+          }
           // The instrument records every 3 nm, its axis shifted by `axis`, with noise.
           MeasuredSpectrum ms;
           ms.conditions = {{"subject", "S" + std::to_string(s + 1)}, {"site", site}, {"light_nm", std::to_string(leds[li])},

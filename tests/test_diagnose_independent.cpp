@@ -55,7 +55,10 @@ indep::Data make(const std::string& effect, uint64_t seed, double magnitude = NA
 }  // namespace
 
 TEST(DiagnoseIndependent, EmissionShiftAndAxisShiftAreSeparateCauses) {
-  for (double m : {2.0, -1.5}) {
+  // 1 nm (the smallest) is below the noise floor on data that nearly fit: named because it
+  // predicts held-out data significantly better than every instrument cause (docs/diagnose.md 4.3);
+  // before that rule it was missed in 5 of 10 benchmark runs.
+  for (double m : {2.0, -1.5, 1.0}) {
     auto data = make("emission_shift", 21, m);
     Outcome r = diagnose_independent(data);
     EXPECT_EQ(r.first(), "emission_shift") << r.all();
@@ -136,10 +139,16 @@ TEST(DiagnoseIndependent, ACauseOfOneSubjectIsFoundAndAttributedToIt) {
 }
 
 TEST(DiagnoseIndependent, NullDataGetNoTissueCause) {
-  for (uint64_t seed : {31, 32}) {
-    auto data = make("", seed);
+  // Null data, also with the instrument slightly other than the model says (a long-pass edge 1.5x
+  // less steep, 3 nm more blur): instrument causes may be named, tissue causes not.
+  for (auto [seed, error] : std::vector<std::pair<uint64_t, std::string>>{{31, ""}, {32, ""}, {33, "edge_width"}, {34, "blur"}}) {
+    indep::Options o;
+    o.seed = seed;
+    o.instrument_error = error;
+    auto data = indep::make_independent(o);
     Outcome r = diagnose_independent(data);
-    for (auto& c : r.d.causes) EXPECT_TRUE(r.p->candidates()[c.candidate].instrument) << "seed " << seed << ": " << r.all();
+    for (auto& c : r.d.causes)
+      EXPECT_TRUE(r.p->candidates()[c.candidate].instrument) << "seed " << seed << " " << error << ": " << r.all();
   }
 }
 

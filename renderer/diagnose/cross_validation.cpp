@@ -348,6 +348,9 @@ CandidateTrial judge(const DiagnoseProblem& p, int cand, const CvRun& before, Cv
   }
   t.at_bound = params_at_bound(p, cand, after);
   t.implausible = implausible_estimates(p, cand, after);
+  t.below_floor_only = gain_ok && folds_ok && !size_ok && nf.instrument_mismatch && t.carried_by.empty() &&
+                       effect >= min_effect_of(p.candidates()[cand], o, false) * nf.rmse && t.at_bound.empty() &&
+                       t.implausible.empty();
   bool statistics_ok = pooled || !t.carried_by.empty();
   t.accepted = statistics_ok && t.at_bound.empty() && t.implausible.empty();
   if (t.accepted)
@@ -435,6 +438,40 @@ void reject_dominated_global_broadening(const DiagnoseProblem& p, std::vector<Ca
         break;
       }
     }
+  }
+}
+
+// On data that nearly fit a tissue cause must explain the noise floor, since a slightly wrong
+// instrument description leaves residuals of that size (min_effect_of). A smaller tissue cause is
+// still named when the residual is specifically its shape: it predicts the held-out items
+// significantly better (z standard errors of the per-item difference, optimism charged) than
+// every instrument cause tried at the same step. Needs at least one instrument cause to compare.
+void accept_unlike_any_instrument(const DiagnoseProblem& p, std::vector<CandidateTrial>& trials, double z) {
+  std::vector<const CandidateTrial*> instrument;
+  for (auto& u : trials)
+    if (p.candidates()[u.candidate].instrument) instrument.push_back(&u);
+  if (instrument.empty()) return;
+  for (auto& t : trials) {
+    if (!t.below_floor_only || t.accepted) continue;
+    bool ok = true;
+    std::string closest;
+    double closest_margin = 1e300;
+    for (const CandidateTrial* u : instrument) {
+      auto [m, se] = gain_difference(t, *u);
+      m -= t.optimism - u->optimism;
+      if (!(se > 0 && m > z * se)) {
+        ok = false;
+        break;
+      }
+      if (m / se < closest_margin) {
+        closest_margin = m / se;
+        closest = p.candidates()[u->candidate].id;
+      }
+    }
+    if (!ok) continue;
+    t.accepted = true;
+    t.verdict = "below the noise floor on data that nearly fit, but significantly better held out than every instrument cause "
+                "(closest: " + closest + ", " + fmtg(closest_margin) + " standard errors)";
   }
 }
 
@@ -550,6 +587,7 @@ Diagnosis diagnose(const DiagnoseProblem& p, const SelectionOptions& o) {
     std::vector<CandidateTrial> trials;
     for (size_t k = 0; k < todo.size(); ++k) trials.push_back(judge(p, todo[k], current, std::move(runs[k]), dg.folds, floor, o));
     if (step == 1) solo = trials;
+    accept_unlike_any_instrument(p, trials, o.z);
     prefer_single_width(p, trials, o.z);
     reject_dominated_global_broadening(p, trials);
     int best = -1;

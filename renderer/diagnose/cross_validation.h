@@ -105,6 +105,10 @@ struct CandidateTrial {
   double subset_gain = 0, subset_threshold = 0;
   std::vector<std::string> at_bound;       // parameters that end on a bound in most fold fits
   std::vector<std::string> implausible;    // estimates outside the cause's plausible range
+  // A tissue cause that passes every test but the instrument-mismatch size bar (its effect is
+  // below the noise floor on data that nearly fit): it is still named if it predicts the held-out
+  // data significantly better than every instrument cause tried at the same step.
+  bool below_floor_only = false;
   std::string verdict;
   CvRun cv;
 };
