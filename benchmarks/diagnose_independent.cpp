@@ -2,8 +2,9 @@
 // independent of its forward model (tests/independent_spectra.h), per hidden cause, with 95 %
 // bounds (Wilson score interval). Issue 12, item 4.
 //   usage: diagnose_independent [seeds per effect] [effect ...]
-//   effect: a name below, "null" (the null rows), "name/shape" (unknown band shapes), "/edge" or
-//   "/response" (null data, instrument slightly wrong), "name@size" (fixed size, sign alternating)
+//   effect: a name below, "null" (the null rows), "name/shape" (unknown band shapes), "/edge",
+//   "/response", "/edge_width", "/blur" (null data, instrument slightly wrong), "name@size" (fixed
+//   size, sign alternating)
 // Prints a markdown table (the rows of benchmarks/results.d/25_diagnose_independent.md).
 #include <cmath>
 #include <cstdio>
@@ -21,7 +22,8 @@ namespace {
 
 struct Expect {
   std::string effect, cause, quantity;
-  double tolerance;  // absolute, on `quantity`
+  double tolerance;   // absolute, on `quantity`
+  std::string label;  // the row's name for null data (no effect)
 };
 
 // Wilson score interval for k successes in n trials (95 %).
@@ -53,11 +55,11 @@ int main(int argc, char** argv) {
       {"unknown_fluorophore/wavelength", "unknown_band", "center_nm", 5.0},
       {"unknown_fluorophore/skewed", "unknown_band", "center_nm", 5.0},
       {"subset_chlorophyll", "extra_fluorophore:chlorophyll_a", "", 0},
-      {"", "", "", 0},
-      {"/edge", "", "", 0},
-      {"/response", "", "", 0},
-      {"/edge_width", "", "", 0},
-      {"/blur", "", "", 0},
+      {"", "", "", 0, "none (null data)"},
+      {"/edge", "", "", 0, "none, long-pass edge 1.5 nm off the model's"},
+      {"/response", "", "", 0, "none, responsivity tilted +-6 %"},
+      {"/edge_width", "", "", 0, "none, long-pass rising over 7.5 nm, not 5"},
+      {"/blur", "", "", 0, "none, 3 nm more instrument blur"},
   };
   std::vector<Expect> run;
   for (int a = 2; a < argc; ++a)  // "emission_shift@1": that effect at a fixed size (sign alternating)
@@ -126,16 +128,8 @@ int main(int argc, char** argv) {
       }
       params += pok;
     }
-    if (e.effect.empty())
-      std::printf("| none (null data) | %d | | | | %s |\n", seeds, rate(tissue, seeds).c_str());
-    else if (e.effect == "/edge")
-      std::printf("| none, long-pass edge 1.5 nm off the model's | %d | | | | %s |\n", seeds, rate(tissue, seeds).c_str());
-    else if (e.effect == "/response")
-      std::printf("| none, responsivity tilted +-6 %% | %d | | | | %s |\n", seeds, rate(tissue, seeds).c_str());
-    else if (e.effect == "/edge_width")
-      std::printf("| none, long-pass rising over 7.5 nm, not 5 | %d | | | | %s |\n", seeds, rate(tissue, seeds).c_str());
-    else if (e.effect == "/blur")
-      std::printf("| none, 3 nm more instrument blur | %d | | | | %s |\n", seeds, rate(tissue, seeds).c_str());
+    if (!e.label.empty())
+      std::printf("| %s | %d | | | | %s |\n", e.label.c_str(), seeds, rate(tissue, seeds).c_str());
     else
       std::printf("| %s | %d | %s | %s | %s | |\n", e.effect.c_str(), seeds, rate(first, seeds).c_str(), rate(only, seeds).c_str(),
                   rate(params, seeds).c_str());

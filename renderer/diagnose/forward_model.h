@@ -160,8 +160,9 @@ double emission_peak_nm(const GridEem& e);
 // A Gaussian band on the grid, unit area (per nm x step).
 std::vector<double> gaussian_band(const WavelengthGrid& g, double center_nm, double fwhm_nm);
 // An emission band on the grid, unit area (per nm x step): log-normal in wavenumber (Siano &
-// Metzler) whose energy per nm peaks at peak_nm, FWHM H = 1e7 fwhm_nm / peak_nm^2 in wavenumber, and `asymmetry` = low- over high-wavenumber half width (> 1: a red tail; 1: Gaussian
-// in wavenumber).
+// Metzler) whose energy per nm peaks at peak_nm, FWHM H = 1e7 fwhm_nm / peak_nm^2 in wavenumber,
+// and `asymmetry` = low- over high-wavenumber half width (> 1: a red tail; 1: Gaussian in
+// wavenumber).
 std::vector<double> lognormal_band(const WavelengthGrid& g, double peak_nm, double fwhm_nm, double asymmetry);
 // Linear interpolation in a table (x increasing), constant beyond its ends.
 double piecewise_linear(const std::vector<double>& x, const std::vector<double>& y, double at);

@@ -18,8 +18,8 @@
 //   unknown_band         an emission band in no library spectrum: log-normal in wavenumber (the
 //                        band shape of fluorescence, Siano & Metzler 1969) with center_nm (peak),
 //                        fwhm_nm (8-150 nm), asymmetry (red/blue half-width ratio 0.4-2.5, 1 =
-//                        Gaussian in wavenumber) and one amplitude per spectrum (found by a start grid; the free-form shape is
-//                        estimated by unknown_band.h)
+//                        Gaussian in wavenumber) and one amplitude per spectrum (found by a
+//                        start grid; the free-form shape is estimated by unknown_band.h)
 //   layered_tissue       each site's tissue is a layered stack (layered_site.h): per site
 //                        thickness_mm:<site>, blood_fraction:<site>, saturation:<site>; the
 //                        fluorophores the stack holds get depth-resolved columns
