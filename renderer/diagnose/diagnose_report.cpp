@@ -324,6 +324,24 @@ std::vector<std::string> write_diagnosis_files(const DiagnoseProblem& p, const D
     b.marker_label = "noise floor";
     out("heldout_rmse_by_" + slug(by) + ".svg", svg_bars(b, 760, 440));
   }
+  // Depth against the surface blood filter, each alone on the baseline, per site and light.
+  if (auto rows = depth_comparison(p, d); !rows.empty()) {
+    BarChart b;
+    b.title = "held-out RMSE per site and LED: baseline, + blood filter, + layered_tissue (each alone)";
+    b.ylabel = "RMSE (fraction of mean radiance)";
+    b.series_names = {"baseline", "+ blood_absorption", "+ layered_tissue"};
+    b.colors = {palette(0), palette(1), palette(2)};
+    b.values.resize(3);
+    for (auto& r : rows) {
+      b.categories.push_back(r.site + " " + r.light + " nm");
+      b.values[0].push_back(r.baseline);
+      b.values[1].push_back(r.blood);
+      b.values[2].push_back(r.layered);
+      b.markers.push_back(d.floor.rmse);
+    }
+    b.marker_label = "noise floor";
+    out("layered_vs_blood.svg", svg_bars(b, 760, 440));
+  }
   // Every candidate at the first step: held-out gain against its threshold.
   if (!d.steps.empty()) {
     BarChart b;
