@@ -8,10 +8,16 @@
 //                                    (GGX) dielectric interface; false or absent = smooth bare top
 //   "ambient_ior": 1.0               medium above the tissue
 //   "layers": [<layer>, ...]         top to bottom
-//   "transport": "table" | "walk"   table (default): the stack's response tabulated once at scene load
-//                                    (renderer/render/stack_response.h); walk: the random walk at every
-//                                    shading point (the reference)
+//   "transport": "table" | "spatial" | "walk"
+//                                    table (default): the stack's response tabulated once at scene load
+//                                    (renderer/render/stack_response.h), light leaves where it entered;
+//                                    spatial: the same table for the directional part and lateral
+//                                    profiles for where light comes back out (renderer/render/spatial/);
+//                                    walk: the position-free random walk at every shading point (the
+//                                    reference)
 //   "table_photons": 2000            walks per incidence cosine and wavelength group filling the table
+//   "profile_photons": 20000         spatial: walks per incidence cosine and wavelength group filling the
+//                                    lateral profiles
 //   "table_similarity_after": 60     collisions after which the table's walks scatter isotropically with
 //                                    mus (1 - g) (the similarity relation); 0 = the exact phase throughout
 //   "bottom": "semi_infinite" | {"type": "open", "ior": 1.0}
@@ -253,14 +259,21 @@ nlohmann::json merged_document(const JsonNode& n) {
 
 void parse_stack(const JsonNode& m, Material& out, MaterialContext& ctx) {
   m.check_keys({"type", "coating", "ambient_ior", "layers", "bottom", "transport", "table_photons",
-                "table_similarity_after"});
+                "table_similarity_after", "profile_photons"});
   LayerStack& st = out.stack;
   st.enabled = true;
   if (auto t = m.find("transport")) {
     std::string v = t->string();
     if (v == "table") st.transport = StackTransport::kTable;
     else if (v == "walk") st.transport = StackTransport::kWalk;
-    else t->fail("expected \"table\" or \"walk\"");
+    else if (v == "spatial") st.transport = StackTransport::kSpatial;
+    else t->fail("expected \"table\", \"spatial\" or \"walk\"");
+  }
+  if (auto t = m.find("profile_photons")) {
+    if (st.transport != StackTransport::kSpatial) t->fail("only a \"spatial\" transport has lateral profiles to fill");
+    double v = t->number(100.0, 1e7);
+    if (v != std::floor(v)) t->fail("expected a whole number of walks");
+    st.profile_photons = int(v);
   }
   if (auto t = m.find("table_photons")) st.table_photons = int(t->number(100.0, 1e7));
   if (auto t = m.find("table_similarity_after")) {

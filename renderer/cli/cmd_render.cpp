@@ -110,6 +110,7 @@ void register_render_command(CLI::App& app) {
                         {"camera_rays", s.rays.camera},
                         {"extension_rays", s.rays.extension},
                         {"shadow_rays", s.rays.shadow},
+                        {"probe_rays", s.rays.probe},
                         {"rays_per_second", s.rays_per_second()},
                         {"relative_noise", s.relative_noise},
                         {"radiance_exr", (out / "radiance.exr").string()},

@@ -16,7 +16,7 @@ void record_ray(RayLog* log, const glm::dvec3& o, const glm::dvec3& d, float tma
 }
 
 PathTracer::PathTracer(const Scene& scene, const EmbreeScene& embree, const RenderTables& tables)
-    : scene_(scene), embree_(embree), t_(tables) {
+    : scene_(scene), embree_(embree), t_(tables), spatial_(scene, embree, tables) {
   deterministic_ = scene.integrator.direct_excitation == IntegratorSpec::DirectExcitation::kDeterministic;
   const CameraSpec& c = scene.camera;
   cam_pos_ = c.position;
@@ -237,6 +237,21 @@ PathTracer::Continuation PathTracer::layered_vertex(const SurfacePoint& sp, cons
   return c;
 }
 
+PathTracer::Continuation PathTracer::spatial_vertex(const SurfacePoint& sp, unsigned geom, const Frame& frame,
+                                                    const glm::dvec3& wo, const MaterialTables& mt, PathLanes& p, Rng& rng,
+                                                    RayCounts& counts, RayLog* log) const {
+  const SpatialScatter s = spatial_.scatter(sp, geom, frame, wo, mt, p, rng, counts, log);
+  Continuation c;
+  if (!s.ok || glm::dot(s.wi_world, s.from.ng) <= 0) return c;
+  c.ok = true;
+  c.wi_world = s.wi_world;
+  c.pdf = s.pdf;
+  c.diffuse = !s.reflected;
+  c.moved = !s.reflected;
+  c.from = s.from;
+  return c;
+}
+
 bool PathTracer::roulette(PathLanes& p, int depth, Rng& rng) const {
   float maxb = 0;
   for (int k = 0; k < kLanes; ++k) maxb = std::max(maxb, p.beta[k]);
@@ -286,7 +301,7 @@ double PathTracer::sample_pixel(int x, int y, Rng& rng, double* bands, RayCounts
     SurfacePoint sp = embree_.surface(hit, ray.o, ray.d);
     glm::dvec3 wo_w = -ray.d;
     // Two-sided surfaces: work on the side the ray came from.
-    if (glm::dot(sp.ng, wo_w) < 0) { sp.ng = -sp.ng; sp.ns = -sp.ns; }
+    if (glm::dot(sp.ng, wo_w) < 0) { sp.ng = -sp.ng; sp.ns = -sp.ns; sp.flipped = true; }
     if (glm::dot(sp.ns, wo_w) <= 1e-6) sp.ns = sp.ng;
     const MaterialTables& mt = t_.materials[sp.material];
     if (!mt.emission.empty())
@@ -295,13 +310,14 @@ double PathTracer::sample_pixel(int x, int y, Rng& rng, double* bands, RayCounts
 
     Frame frame(sp.ns);
     glm::dvec3 wo = frame.to_local(wo_w);
-    Continuation c = mt.stack.enabled ? layered_vertex(sp, frame, wo, mt, p, rng, counts, log)
-                                      : surface_vertex(sp, frame, wo, mt, diffuse_seen, p, rng, counts, log);
+    Continuation c = !mt.stack.enabled ? surface_vertex(sp, frame, wo, mt, diffuse_seen, p, rng, counts, log)
+                     : mt.stack.spatial ? spatial_vertex(sp, hit.geom, frame, wo, mt, p, rng, counts, log)
+                                        : layered_vertex(sp, frame, wo, mt, p, rng, counts, log);
     if (!c.ok) break;
     if (c.diffuse) diffuse_seen = scene_.integrator.regularize_glossy > 0;
     prev_pdf = c.pdf;
     if (!roulette(p, depth, rng)) break;
-    ray = {EmbreeScene::offset(sp, c.wi_world), c.wi_world};
+    ray = {EmbreeScene::offset(c.moved ? c.from : sp, c.wi_world), c.wi_world};
     counts.extension++;
   }
   return splat(p, bands, fluorescence);

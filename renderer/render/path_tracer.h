@@ -14,23 +14,12 @@
 #include "renderer/render/embree_scene.h"
 #include "renderer/render/render_tables.h"
 #include "renderer/render/path_lanes.h"
+#include "renderer/render/ray_counts.h"
 #include "renderer/render/rng.h"
+#include "renderer/render/spatial/spatial_vertex.h"
 
 namespace ofl {
 
-struct RayCounts {
-  uint64_t camera = 0, extension = 0, shadow = 0;
-  uint64_t total() const { return camera + extension + shadow; }
-  void operator+=(const RayCounts& o) { camera += o.camera; extension += o.extension; shadow += o.shadow; }
-};
-
-// Optional log of traced rays, for timing Embree alone on the same rays. Not thread safe:
-// record with one thread (the speed benchmark does).
-struct RayLog {
-  struct Ray { float o[3], d[3], tmax; bool shadow; };
-  std::vector<Ray> rays;
-  size_t limit = 0;  // 0 = off
-};
 
 class PathTracer {
  public:
@@ -52,6 +41,8 @@ class PathTracer {
     glm::dvec3 wi_world{0, 0, 0};
     double pdf = 0;
     bool diffuse = false;  // left through a diffuse lobe (glossy regularisation)
+    bool moved = false;    // leaves from `from` (lateral transport moved the path), not the vertex
+    SurfacePoint from;
   };
 
   Ray camera_ray(int x, int y, Rng& rng) const;
@@ -62,18 +53,20 @@ class PathTracer {
                               bool diffuse_seen, PathLanes& p, Rng& rng, RayCounts& counts, RayLog* log) const;
   Continuation layered_vertex(const SurfacePoint& sp, const Frame& frame, const glm::dvec3& wo, const MaterialTables& mt,
                               PathLanes& p, Rng& rng, RayCounts& counts, RayLog* log) const;
+  Continuation spatial_vertex(const SurfacePoint& sp, unsigned geom, const Frame& frame, const glm::dvec3& wo,
+                              const MaterialTables& mt, PathLanes& p, Rng& rng, RayCounts& counts, RayLog* log) const;
   bool roulette(PathLanes& p, int depth, Rng& rng) const;
   double splat(const PathLanes& p, double* bands, double* fluorescence) const;
 
   const Scene& scene_;
   const EmbreeScene& embree_;
   const RenderTables& t_;
+  SpatialTransport spatial_;
   bool deterministic_;
   // Camera frame.
   glm::dvec3 cam_pos_, cam_right_, cam_up_, cam_fwd_;
   double tan_half_h_, tan_half_w_;
 };
 
-void record_ray(RayLog* log, const glm::dvec3& o, const glm::dvec3& d, float tmax, bool shadow);
 
 }  // namespace ofl

@@ -15,6 +15,7 @@
 
 #include "renderer/core/progress.h"
 #include "renderer/render/aov_pass.h"
+#include "renderer/render/spatial/spatial_checks.h"
 
 namespace ofl {
 
@@ -51,6 +52,7 @@ RenderResult render(const Scene& scene, const RenderOptions& opt) {
       st.warnings.push_back("the camera appears to be inside closed geometry: " + std::to_string(vp.back_hits) + " of " +
                             std::to_string(vp.rays) + " view rays hit the back of a surface");
   }
+  for (std::string& w : spatial_geometry_warnings(scene, embree, tables)) st.warnings.push_back(std::move(w));
   std::optional<ProgressBar> bar;  // RenderOptions::progress false: no bar at all
   if (opt.progress) bar.emplace("render", int64_t(W) * H * spp);
   std::mutex mu;

@@ -85,8 +85,8 @@ struct SceneOverrides {
 
 Scene load_scene(const std::filesystem::path& file, const SceneOverrides& overrides = {});
 // The material at a surface point: a "regions" material resolves to the material its masks give at
-// (u, v); any other material is itself.
-int resolve_material(const Scene& scene, int material, float u, float v);
+// (u, v) or its spheres give at p; any other material is itself.
+int resolve_material(const Scene& scene, int material, float u, float v, const glm::dvec3& p);
 Scene load_scene(const JsonFile& doc, const SceneOverrides& overrides = {});
 
 }  // namespace ofl
