@@ -1,0 +1,148 @@
+"""oralfluor installs as a Python package: `pip install .` into a virtual environment made from
+/usr/bin/python3 (offline: the build backend needs nothing from PyPI), `python3 -m build` makes the
+same wheel, and the installed package passes the tests that exercise its entry points, imported
+from the environment and not from the build tree. The .pyi stubs name every argument the compiled
+functions take (an editor's completion is what the module accepts).
+
+The build reuses the build tree the tests run from (OFL_BUILD_DIR), so this costs a link check, not
+a compile. OFL_TEST_INSTALLED_ALL=1 runs every test file against the installed package."""
+import ast
+import glob
+import inspect
+import os
+import re
+import shutil
+import subprocess
+import sys
+import zipfile
+
+import pytest
+
+import oralfluor as ofl
+from oralfluor import _oralfluor
+from conftest import BINARY, ROOT
+
+BUILD = os.path.dirname(BINARY)
+STUBS = os.path.join(ROOT, "python", "oralfluor", "_oralfluor.pyi")
+
+
+def offline_env(**extra):
+    env = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}
+    env.update(OFL_BUILD_DIR=BUILD, PIP_NO_INDEX="1", PIP_DISABLE_PIP_VERSION_CHECK="1", **extra)
+    return env
+
+
+def run(cmd, **kw):
+    p = subprocess.run(cmd, capture_output=True, text=True, **kw)
+    assert p.returncode == 0, f"{' '.join(map(str, cmd))} exited {p.returncode}:\n{p.stdout[-3000:]}\n{p.stderr[-3000:]}"
+    return p
+
+
+@pytest.fixture(scope="module")
+def venv(tmp_path_factory):
+    if sys.executable != "/usr/bin/python3":
+        pytest.skip("the package test builds for Debian's /usr/bin/python3")
+    d = tmp_path_factory.mktemp("venv") / "env"
+    # --system-site-packages: numpy (and pytest) come from Debian's python3-numpy, not from PyPI.
+    run(["/usr/bin/python3", "-m", "venv", "--system-site-packages", str(d)])
+    run([str(d / "bin" / "pip"), "install", "--no-cache-dir", ROOT], env=offline_env(), cwd=str(d))
+    return d
+
+
+def test_pip_install_puts_a_working_package_in_the_environment(venv, tmp_path):
+    py = str(venv / "bin" / "python")
+    code = "import oralfluor, sys; print(oralfluor.__file__); print(oralfluor.fluorophores()[0]['name'])"
+    p = run([py, "-c", code], env=offline_env(), cwd=str(tmp_path))
+    where, first = p.stdout.split()
+    assert where.startswith(str(venv)) and "site-packages" in where
+    assert first == ofl.fluorophores()[0]["name"]
+    files = os.listdir(os.path.dirname(where))
+    assert {"py.typed", "_oralfluor.pyi", "_build_info.py"} <= set(files)
+    # What pip recorded is what is there: uninstall removes it all.
+    run([str(venv / "bin" / "pip"), "uninstall", "-y", "oralfluor"], env=offline_env())
+    assert not os.path.exists(where)
+    run([str(venv / "bin" / "pip"), "install", "--no-cache-dir", ROOT], env=offline_env(), cwd=str(tmp_path))
+
+
+def test_installed_package_passes_the_tests(venv, tmp_path):
+    tests = os.path.join(ROOT, "python", "tests")
+    if os.environ.get("OFL_TEST_INSTALLED_ALL"):
+        files = sorted(f for f in glob.glob(os.path.join(tests, "test_*.py")) if not f.endswith("test_package.py"))
+    else:  # the entry points and their conversions: fast, and they touch every binding file
+        files = [os.path.join(tests, f) for f in ("test_arguments.py", "test_fuzz_arguments.py", "test_camera_module.py")]
+    p = subprocess.run([str(venv / "bin" / "python"), "-m", "pytest", "-q", "-p", "no:cacheprovider",
+                        "--rootdir", str(tmp_path), *files], capture_output=True, text=True, cwd=str(tmp_path),
+                       env=offline_env(OFL_BINARY=BINARY, OFL_SOURCE_DIR=ROOT))
+    assert p.returncode == 0, p.stdout[-4000:] + p.stderr[-2000:]
+    assert re.search(r"\d+ passed", p.stdout) and " failed" not in p.stdout
+
+
+def test_python_m_build_makes_a_wheel_and_an_sdist(tmp_path):
+    if shutil.which("/usr/bin/python3") is None or subprocess.run(["/usr/bin/python3", "-c", "import build"]).returncode:
+        pytest.fail("python3-build (Debian) is missing: .ci/install-deps.sh installs it")
+    out = tmp_path / "dist"
+    run(["/usr/bin/python3", "-m", "build", "--wheel", "--sdist", "--outdir", str(out), ROOT], env=offline_env(),
+        cwd=str(tmp_path))
+    wheels = glob.glob(str(out / "oralfluor-*-cp3*-linux_*.whl"))
+    sdists = glob.glob(str(out / "oralfluor-*.tar.gz"))
+    assert len(wheels) == 1 and len(sdists) == 1
+    with zipfile.ZipFile(wheels[0]) as z:
+        names = z.namelist()
+        record = z.read(next(n for n in names if n.endswith("/RECORD"))).decode()
+    assert any(re.fullmatch(r"oralfluor/_oralfluor\.cpython-\d+-.*\.so", n) for n in names)
+    assert "oralfluor/__init__.py" in names and "oralfluor/_oralfluor.pyi" in names
+    assert all(n in record for n in names)
+
+
+def runtime_parameters(fn):
+    """Parameter names from pybind11's signature line, e.g. "read_exr(path: object) -> ..."."""
+    first = fn.__doc__.splitlines()[0]
+    inside = first[first.index("(") + 1:first.rindex(") ->")]
+    names = []
+    depth = 0
+    token = ""
+    for ch in inside + ",":
+        if ch in "([{":
+            depth += 1
+        elif ch in ")]}":
+            depth -= 1
+        if ch == "," and depth == 0:
+            if token.strip():
+                names.append(token.split(":")[0].strip())
+            token = ""
+        else:
+            token += ch
+    return [n for n in names if n != "self"]
+
+
+def test_stubs_name_every_argument_the_module_takes():
+    tree = ast.parse(open(STUBS).read())
+    stub_funcs = {n.name: n for n in tree.body if isinstance(n, ast.FunctionDef)}
+    stub_classes = {n.name: {m.name: m for m in n.body if isinstance(m, ast.FunctionDef)}
+                    for n in tree.body if isinstance(n, ast.ClassDef)}
+    args = lambda f: [a.arg for a in f.args.args + f.args.kwonlyargs if a.arg != "self"]  # noqa: E731
+    checked = 0
+    for name, obj in vars(_oralfluor).items():
+        if name.startswith("__"):
+            continue
+        if inspect.isclass(obj) and issubclass(obj, BaseException):
+            assert name in stub_classes, name
+        elif inspect.isclass(obj):
+            assert name in stub_classes, f"class {name} has no stub"
+            for meth, f in vars(obj).items():
+                if meth.startswith("_") and meth != "__init__" or not callable(f) or not getattr(f, "__doc__", None):
+                    continue
+                if meth == "__init__":
+                    assert runtime_parameters(f) == args(stub_classes[name]["__init__"]), name
+                else:
+                    assert meth in stub_classes[name], f"{name}.{meth} has no stub"
+                    assert runtime_parameters(f) == args(stub_classes[name][meth]), f"{name}.{meth}"
+                checked += 1
+            for prop, p in vars(obj).items():
+                if isinstance(p, property):
+                    assert prop in stub_classes[name], f"{name}.{prop} has no stub"
+        elif callable(obj):
+            assert name in stub_funcs, f"{name} has no stub"
+            assert runtime_parameters(obj) == args(stub_funcs[name]), name
+            checked += 1
+    assert checked >= 25
