@@ -33,7 +33,8 @@ class Browser:
         self.profile = tempfile.mkdtemp(prefix="ofl_chromium_")
         to_browser_r, self._to_browser = os.pipe()
         self._from_browser, from_browser_w = os.pipe()
-        cmd = ["sh", "-c", f'exec "$@" 3<&{to_browser_r} 4>&{from_browser_w}', "sh", CHROMIUM, *FLAGS,
+        # bash, not sh: dash takes only one-digit descriptors in redirections.
+        cmd = ["bash", "-c", f'exec "$@" 3<&{to_browser_r} 4>&{from_browser_w}', "bash", CHROMIUM, *FLAGS,
                f"--user-data-dir={self.profile}", f"--window-size={width},{height}", "about:blank"]
         self.proc = subprocess.Popen(cmd, pass_fds=(to_browser_r, from_browser_w), stdout=subprocess.DEVNULL,
                                      stderr=subprocess.DEVNULL)
@@ -103,7 +104,7 @@ class Browser:
     def open(self, url):
         target = self.send("Target.createTarget", {"url": "about:blank"})["targetId"]
         session = self.send("Target.attachToTarget", {"targetId": target, "flatten": True})["sessionId"]
-        page = Page(self, session)
+        page = Page(self, session, target)
         for domain in ("Page", "Runtime", "Log", "Network"):
             self.send(domain + ".enable", session=session)
         self.send("Emulation.setDeviceMetricsOverride",
@@ -113,8 +114,11 @@ class Browser:
 
 
 class Page:
-    def __init__(self, browser, session):
-        self.b, self.session = browser, session
+    def __init__(self, browser, session, target):
+        self.b, self.session, self.target = browser, session, target
+
+    def close(self):
+        self.b.send("Target.closeTarget", {"targetId": self.target})
 
     def _events(self, method=None):
         return [e for e in self.b.events if e.get("sessionId") == self.session and (method is None or e["method"] == method)]

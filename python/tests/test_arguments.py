@@ -140,17 +140,17 @@ def test_arrays_are_read_only_views_not_copies():
     assert copy.flags.writeable
 
 
-DIAGNOSE = (os.path.join(ROOT, "assets", "measurements", "oe_tongue_lip"), scene_path("diagnose", "oe_tongue_lip.json"))
+DIAGNOSE = (os.path.join(ROOT, "assets", "measurements", "camera_example"), scene_path("diagnose", "camera_example.json"))
 
 
 def test_diagnose_takes_threads_and_reports_progress_and_stops():
     calls = []
-    one = ofl.diagnose(*DIAGNOSE, threads=1, max_causes=1, progress=lambda d, t, s: calls.append((d, t, s)))
-    two = ofl.diagnose(*DIAGNOSE, threads=2, max_causes=1)
+    one = ofl.diagnose(*DIAGNOSE, threads=1, progress=lambda d, t, s: calls.append((d, t, s)))
+    two = ofl.diagnose(*DIAGNOSE, threads=np.int64(2))
     one.pop("text"), two.pop("text")
     assert one == two  # the same report at any thread count
     steps = [c for c in calls if c[1] > 0]
-    assert steps and all(0 <= d <= t for d, t, _ in steps) and {s for _, _, s in steps} == {1}
+    assert steps and all(0 < d <= t for d, t, _ in steps) and {s for _, _, s in steps} == {1, 2}
     # A callback that says stop ends the run with KeyboardInterrupt once the candidates in flight finish.
     seen = []
     with pytest.raises(KeyboardInterrupt, match="progress callback"):

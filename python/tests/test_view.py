@@ -39,7 +39,7 @@ def open_view(browser, outputs, name, *files, extra=()):
     for external in ('src="http', 'href="http', "url(http", "@import", 'src="//'):
         assert external not in text
     page = browser.open(html.as_uri())
-    assert page.evaluate("document.body.dataset.ready") == "1"
+    assert page.evaluate("document.body.dataset.ready") == "1", page.errors
     return page
 
 

@@ -7,22 +7,25 @@ const char* view_style() {
 body { font: 13px/1.35 system-ui, sans-serif; margin: 0; color: #222; background: #f4f4f2; }
 header { display: flex; flex-wrap: wrap; gap: 14px; align-items: center; padding: 8px 12px; background: #fff; border-bottom: 1px solid #ddd; }
 header h1 { font-size: 15px; margin: 0 12px 0 0; font-weight: 600; }
-main { display: flex; flex-wrap: wrap; gap: 12px; padding: 12px; align-items: flex-start; }
-#panels { display: flex; gap: 10px; flex-wrap: wrap; }
+main { display: flex; gap: 12px; padding: 12px; align-items: flex-start; }
+#panels { display: flex; gap: 10px; flex-wrap: wrap; align-content: flex-start; flex: 0 0 auto; }
 figure { margin: 0; background: #fff; border: 1px solid #ddd; padding: 6px; }
 figcaption { font-size: 12px; color: #555; margin-bottom: 4px; max-width: 640px; overflow-wrap: anywhere; }
 .stage { position: relative; line-height: 0; cursor: crosshair; }
 .stage canvas { width: 100%; image-rendering: pixelated; }
 .stage canvas.over { position: absolute; left: 0; top: 0; height: 100%; }
 #side { background: #fff; border: 1px solid #ddd; padding: 8px; width: 520px; }
-#plot { width: 500px; height: 260px; display: block; }
-#plot text { font-size: 11px; fill: #333; }
+#plots svg { width: 500px; height: 230px; display: block; }
+#plots svg text { font-size: 11px; fill: #333; }
+.legend span { display: inline-block; margin-right: 10px; font-size: 12px; }
+.legend i { display: inline-block; width: 14px; height: 3px; margin-right: 4px; vertical-align: middle; }
 table { border-collapse: collapse; font-size: 12px; margin-top: 6px; }
 td, th { padding: 1px 6px; text-align: right; border-bottom: 1px solid #eee; }
 th { text-align: left; font-weight: 600; }
 .notes { font-size: 12px; color: #666; margin: 4px 0 0; padding-left: 16px; }
-#legend span { display: inline-block; margin-right: 10px; }
-#legend i { display: inline-block; width: 10px; height: 10px; margin-right: 3px; vertical-align: middle; }
+#materials { flex-basis: 100%; }
+#materials span { display: inline-block; margin-right: 10px; }
+#materials i { display: inline-block; width: 10px; height: 10px; margin-right: 3px; vertical-align: middle; }
 #errors { color: #b00; white-space: pre-wrap; }
 .muted { color: #777; }
 )CSS";
@@ -34,9 +37,10 @@ const char* view_body() {
 <label>band <input id="band" type="range" min="0" max="0" value="0"> <span id="bandlabel"></span></label>
 <label><input id="overlay" type="checkbox"> materials</label>
 <label>brightness <input id="gain" type="range" min="-4" max="4" step="0.25" value="0"></label>
+<label><input id="logy" type="checkbox"> log plot</label>
 <span class="muted">hover: spectrum &middot; click: pin &middot; drag: region</span></header>
 <main><div id="panels"></div>
-<section id="side"><svg id="plot" viewBox="0 0 500 260"></svg><div id="legend"></div>
+<section id="side"><div id="plots"></div>
 <table id="readout"></table><div id="region"></div><div id="errors"></div></section></main>
 )HTML";
 }
@@ -50,7 +54,7 @@ window.addEventListener("error", e => { oflErrors.push(String(e.message)); showE
 function showErrors() { document.getElementById("errors").textContent = oflErrors.join("\n"); }
 const META = JSON.parse(document.getElementById("ofl-meta").textContent);
 const PALETTE = ["#e6194b","#3cb44b","#4363d8","#f58231","#911eb4","#42d4f4","#f032e6","#bfef45","#fabed4","#469990","#dcbeff","#9a6324","#800000","#aaffc3","#808000","#000075"];
-const COLOURS = ["#222", "#1a7f37"], DASH = ["", "5,3"];
+const COLOURS = ["#222", "#1a7f37"];
 
 function bytesOf(id) {
   const el = document.getElementById(id);
@@ -84,7 +88,7 @@ const images = META.images.map((m, i) => ({
   material: m.has_material ? bytesOf("ofl-" + i + "-material") : null,
 }));
 
-const state = { mode: "srgb", band: 0, overlay: false, gain: 1, hover: null, pinned: null, region: null, drag: null };
+const state = { mode: "srgb", band: 0, overlay: false, gain: 1, logy: false, hover: null, pinned: null, region: null, drag: null };
 window.oflView = { state, images, spectrumAt, regionStats };
 
 // Values of image `im` at grid pixel (x, y): {values, fluorescence} (k x k means when decimated).
@@ -118,7 +122,8 @@ function colourOf(im, v) {
 // ---- drawing -------------------------------------------------------------------------------
 function setupPanels() {
   const panels = document.getElementById("panels");
-  const width = images.length > 1 ? 470 : 640;
+  const width = images.length > 1 ? 440 : 600;
+  panels.style.width = images.length * (width + 24) + "px";
   for (const im of images) {
     const fig = document.createElement("figure");
     fig.innerHTML = "<figcaption></figcaption><div class=stage><canvas class=img></canvas><canvas class=over></canvas></div><ul class=notes></ul>";
@@ -220,30 +225,42 @@ function attachMouse(im) {
 // ---- plot and tables ----------------------------------------------------------------------
 function fmt(v) { return !isFinite(v) ? String(v) : v === 0 ? "0" : Math.abs(v) >= 1e4 || Math.abs(v) < 1e-3 ? v.toExponential(4) : v.toPrecision(5); }
 
-function plot(series) {
-  const svg = document.getElementById("plot"), W = 500, H = 260, L = 62, R = 10, T = 10, B = 34;
+// One plot per image (their units differ): series of image i go to the i-th plot.
+function plotAll(series) {
+  const box = document.getElementById("plots");
+  box.innerHTML = images.map(() => `<svg viewBox="0 0 500 230"></svg><div class="legend"></div>`).join("");
+  const svgs = box.querySelectorAll("svg"), legends = box.querySelectorAll(".legend");
+  images.forEach((im, i) => plot(svgs[i], legends[i], series.filter(s => s.image === i), im));
+}
+
+function plot(svg, legend, series, im) {
+  const W = 500, H = 230, L = 62, R = 10, T = 22, B = 34, m = im.m, nm = m.wavelengths.length > 0;
+  const xs = nm ? m.wavelengths : m.channels.map((_, i) => i);
+  // Log plot: decades below the largest value, down to 1e-4 of it.
+  const peak = Math.max(1e-30, ...series.flatMap(s => s.y.concat(s.hi || [])).filter(isFinite));
+  const tr = state.logy ? v => Math.log10(Math.max(v, peak * 1e-4)) : v => v;
+  series = series.map(se => Object.assign({}, se, { y: se.y.map(tr), lo: se.lo && se.lo.map(tr), hi: se.hi && se.hi.map(tr) }));
   const all = series.flatMap(s => s.y.concat(s.lo || [], s.hi || [])).filter(isFinite);
-  const xs = series.length ? series[0].x : [0, 1];
-  const ymax = Math.max(1e-30, ...all), ymin = Math.min(0, ...all), x0 = xs[0], x1 = xs[xs.length - 1] === x0 ? x0 + 1 : xs[xs.length - 1];
+  const ymin = !all.length ? 0 : state.logy ? Math.min(...all) : Math.min(0, ...all);
+  const ymax = all.length && Math.max(...all) > ymin ? Math.max(...all) : ymin + 1, x0 = xs[0];
+  const x1 = xs[xs.length - 1] === x0 ? x0 + 1 : xs[xs.length - 1];
   const X = x => L + (W - L - R) * (x - x0) / (x1 - x0), Y = y => H - B - (H - T - B) * (y - ymin) / (ymax - ymin);
   let s = `<rect x="${L}" y="${T}" width="${W - L - R}" height="${H - T - B}" fill="none" stroke="#bbb"/>`;
-  for (let i = 0; i <= 4; ++i) { const y = ymin + (ymax - ymin) * i / 4; s += `<text x="${L - 4}" y="${Y(y) + 4}" text-anchor="end">${fmt(y)}</text>`; }
-  const isNm = series.length && series[0].nm;
-  const ticks = isNm ? niceTicks(x0, x1) : xs;
-  ticks.forEach((t, i) => { s += `<text x="${X(t)}" y="${H - B + 14}" text-anchor="middle">${isNm ? t : series[0].labels[i]}</text>`; });
-  s += `<text x="${(L + W - R) / 2}" y="${H - 4}" text-anchor="middle">${isNm ? "wavelength (nm)" : "channel"}</text>`;
-  s += `<text x="12" y="${(T + H - B) / 2}" text-anchor="middle" transform="rotate(-90 12 ${(T + H - B) / 2})">${series.length ? series[0].units : ""}</text>`;
+  s += `<text x="${L}" y="${T - 7}">[${im.i + 1}] ${m.kind}, ${m.units}</text>`;
+  for (let i = 0; i <= 4; ++i) { const y = ymin + (ymax - ymin) * i / 4; s += `<text x="${L - 4}" y="${Y(y) + 4}" text-anchor="end">${fmt(state.logy ? Math.pow(10, y) : y)}</text>`; }
+  (nm ? niceTicks(x0, x1) : xs).forEach((t, i) => { s += `<text x="${X(t)}" y="${H - B + 14}" text-anchor="middle">${nm ? t : m.channels[i]}</text>`; });
+  s += `<text x="${(L + W - R) / 2}" y="${H - 4}" text-anchor="middle">${nm ? "wavelength (nm)" : "channel"}</text>`;
   for (const se of series) {
     if (se.lo) {
-      const pts = se.x.map((x, i) => `${X(x)},${Y(se.hi[i])}`).concat(se.x.map((x, i) => `${X(x)},${Y(se.lo[i])}`).reverse());
+      const pts = xs.map((x, i) => `${X(x)},${Y(se.hi[i])}`).concat(xs.map((x, i) => `${X(x)},${Y(se.lo[i])}`).reverse());
       s += `<polygon points="${pts.join(" ")}" fill="${se.colour}" opacity="0.15"/>`;
     }
-    const pts = se.x.map((x, i) => `${X(x)},${Y(se.y[i])}`).join(" ");
-    s += `<polyline points="${pts}" fill="none" stroke="${se.colour}" stroke-width="1.6" stroke-dasharray="${se.dash}"/>`;
-    if (!se.nm) s += se.x.map((x, i) => `<circle cx="${X(x)}" cy="${Y(se.y[i])}" r="3" fill="${se.colour}"/>`).join("");
+    s += `<polyline points="${xs.map((x, i) => `${X(x)},${Y(se.y[i])}`).join(" ")}" fill="none" stroke="${se.colour}" stroke-width="1.6"/>`;
+    if (!nm) s += xs.map((x, i) => `<circle cx="${X(x)}" cy="${Y(se.y[i])}" r="3" fill="${se.colour}"/>`).join("");
   }
+  if (!series.length) s += `<text x="${(L + W - R) / 2}" y="${(T + H - B) / 2}" text-anchor="middle" class="muted">hover over an image</text>`;
   svg.innerHTML = s;
-  document.getElementById("legend").innerHTML = series.map(se => `<span><i style="background:${se.colour}"></i>${se.name}</span>`).join("");
+  legend.innerHTML = series.map(se => `<span><i style="background:${se.colour}"></i>${se.name}</span>`).join("");
 }
 function niceTicks(a, b) {
   const step = [10, 20, 50, 100, 200].find(s => (b - a) / s <= 8) || 500, out = [];
@@ -251,9 +268,8 @@ function niceTicks(a, b) {
   return out;
 }
 
-function seriesFor(im, vals, name, colour, dash, extra) {
-  const m = im.m, nm = m.wavelengths.length > 0;
-  return Object.assign({ x: nm ? m.wavelengths : m.channels.map((_, i) => i), y: vals, nm, labels: m.channels, units: m.units, name, colour, dash }, extra || {});
+function seriesFor(im, vals, name, colour, extra) {
+  return Object.assign({ image: im.i, y: vals, name, colour }, extra || {});
 }
 
 function refresh(redraw) {
@@ -263,21 +279,21 @@ function refresh(redraw) {
   const table = document.getElementById("readout");
   if (p) {
     images.forEach((im, i) => {
-      const q = gridPixel(im, p), s = spectrumAt(im, q.x, q.y), tag = images.length > 1 ? ` [${i + 1}]` : "";
-      series.push(seriesFor(im, s.values, im.m.kind + tag + " at " + q.x + "," + q.y, COLOURS[0], DASH[i]));
-      if (s.fluorescence) series.push(seriesFor(im, s.fluorescence, "fluorescence" + tag, COLOURS[1], DASH[i]));
+      const q = gridPixel(im, p), s = spectrumAt(im, q.x, q.y);
+      series.push(seriesFor(im, s.values, im.m.kind + " at " + q.x + ", " + q.y, COLOURS[0]));
+      if (s.fluorescence) series.push(seriesFor(im, s.fluorescence, "fluorescence", COLOURS[1]));
       const c = colourOf(im, s.values), mat = materialAt(im, q);
       rows.push({ image: i, x: q.x, y: q.y, values: s.values, fluorescence: s.fluorescence, r: c.r, g: c.g, cx: c.x, cy: c.y, material: mat });
     });
   }
   if (state.region) {
     images.forEach((im, i) => {
-      const st = regionStats(im, rectOf(im, state.region)), tag = images.length > 1 ? ` [${i + 1}]` : "";
-      series.push(seriesFor(im, st.mean, "region mean \u00b1 sd" + tag, "#1f5fbf", DASH[i],
+      const st = regionStats(im, rectOf(im, state.region));
+      series.push(seriesFor(im, st.mean, "region mean \u00b1 sd", "#1f5fbf",
                             { lo: st.mean.map((v, j) => v - st.std[j]), hi: st.mean.map((v, j) => v + st.std[j]) }));
     });
   }
-  plot(series);
+  plotAll(series);
   renderReadout(table, rows);
   renderRegion();
 }
@@ -295,7 +311,7 @@ function renderReadout(table, rows) {
   const im0 = images[rows[0].image], c = im0.m.channels.length;
   let h = "<tr><th>pixel</th>" + rows.map(r => `<th>[${r.image + 1}] ${r.x}, ${r.y}${r.material ? " " + r.material : ""}</th>`).join("") + "</tr>";
   h += "<tr><th>(r, g)</th>" + rows.map(r => `<td>${fmt(r.r)}, ${fmt(r.g)}</td>`).join("") + "</tr>";
-  if (rows[0].cx !== undefined) h += "<tr><th>CIE (x, y)</th>" + rows.map(r => `<td>${fmt(r.cx)}, ${fmt(r.cy)}</td>`).join("") + "</tr>";
+  if (rows.some(r => r.cx !== undefined)) h += "<tr><th>CIE (x, y)</th>" + rows.map(r => `<td>${r.cx === undefined ? "-" : fmt(r.cx) + ", " + fmt(r.cy)}</td>`).join("") + "</tr>";
   const b = Math.min(state.band, c - 1);
   h += `<tr><th>${im0.m.channels[b]} (${im0.m.units})</th>` + rows.map(r => `<td>${fmt(r.values[b])}</td>`).join("") + "</tr>";
   if (rows[0].fluorescence) h += `<tr><th>fluorescence at ${im0.m.channels[b]}</th>` + rows.map(r => `<td>${r.fluorescence ? fmt(r.fluorescence[b]) : "-"}</td>`).join("") + "</tr>";
@@ -320,6 +336,7 @@ function controls() {
   band.addEventListener("input", e => { state.band = +e.target.value; label(); if (state.mode === "band") refresh(true); else refresh(false); });
   document.getElementById("overlay").addEventListener("change", e => { state.overlay = e.target.checked; refresh(true); });
   document.getElementById("gain").addEventListener("input", e => { state.gain = Math.pow(2, +e.target.value); refresh(true); });
+  document.getElementById("logy").addEventListener("change", e => { state.logy = e.target.checked; refresh(false); });
   label();
   const legend = images.filter(im => im.material).map(im => im.m.material_names.map((n, j) => `<span><i style="background:${PALETTE[j % PALETTE.length]}"></i>${n}</span>`).join(""));
   if (legend.length) document.getElementById("panels").insertAdjacentHTML("beforeend", `<div id="materials" class="muted">${legend[0]}</div>`);
