@@ -33,8 +33,8 @@ TabulatedSpectrum spectrum_from(const py::object& s, const std::string& what, Ou
     nm = number_list(d["nm"], what + "/nm");
     v = number_list(d.contains("W_per_sr_nm") ? d["W_per_sr_nm"] : d["values"], what + "/values");
   } else {
-    if (py::isinstance<py::str>(s) || !py::isinstance<py::sequence>(s) || py::len(s) != 2) throw InputError("", what, forms);
-    py::sequence t = s.cast<py::sequence>();
+    py::list t = items_of(s, what, "(nm, values) or {\"nm\": [...], \"values\": [...]}");
+    if (t.size() != 2) throw InputError("", what, forms);
     nm = number_list(t[0], what + "/nm");
     v = number_list(t[1], what + "/values");
   }
@@ -53,9 +53,7 @@ TabulatedSpectrum spectrum_from(const py::object& s, const std::string& what, Ou
 // (x, y, w, h): four integers, x, y >= 0 and w, h >= 1, inside a rows x cols image.
 Roi roi_arg(const py::object& obj, int rows, int cols) {
   if (obj.is_none()) return {0, 0, cols, rows};
-  if (py::isinstance<py::str>(obj) || !py::isinstance<py::sequence>(obj) && !py::isinstance<py::array>(obj))
-    throw InputError("", "roi", "expected (x, y, w, h) in pixels, got " + type_name(obj));
-  py::sequence seq = py::isinstance<py::array>(obj) ? py::sequence(obj.attr("tolist")()) : obj.cast<py::sequence>();
+  py::list seq = items_of(obj, "roi", "(x, y, w, h) in pixels");
   if (py::len(seq) != 4) throw InputError("", "roi", "expected four integers (x, y, w, h), got " + std::to_string(py::len(seq)) + " values");
   Roi r;
   r.x = int(int_arg(seq[0], "roi", 0, cols - 1));
@@ -106,8 +104,7 @@ py::dict chromaticity(const py::object& raw_in, const py::object& cfa_in, const 
 
 std::vector<std::string> name_list(const py::object& obj, const std::string& what) {
   std::vector<std::string> out;
-  if (py::isinstance<py::str>(obj) || !py::isinstance<py::sequence>(obj)) throw InputError("", what, "expected a list of names, got " + type_name(obj));
-  for (auto x : obj.cast<py::sequence>()) {
+  for (auto x : items_of(obj, what, "a list of names")) {
     if (!py::isinstance<py::str>(x)) throw InputError("", what, "expected names (str), got " + type_name(x));
     out.push_back(x.cast<std::string>());
   }
@@ -165,9 +162,7 @@ py::dict reference_lines(const CameraDescription& cam, const py::object& led, co
 
 // (min, max, step) nm.
 WavelengthGrid grid_arg(const py::object& obj) {
-  if (py::isinstance<py::str>(obj) || !py::isinstance<py::sequence>(obj) && !py::isinstance<py::array>(obj))
-    throw InputError("", "grid", "expected (min_nm, max_nm, step_nm), got " + type_name(obj));
-  py::sequence seq = py::isinstance<py::array>(obj) ? py::sequence(obj.attr("tolist")()) : obj.cast<py::sequence>();
+  py::list seq = items_of(obj, "grid", "(min_nm, max_nm, step_nm)");
   if (py::len(seq) != 3) throw InputError("", "grid", "expected three numbers (min_nm, max_nm, step_nm)");
   return WavelengthGrid{float_arg(seq[0], "grid", 1, 1e5), float_arg(seq[1], "grid", 1, 1e5), float_arg(seq[2], "grid", 1e-3, 1e5)};
 }

@@ -114,7 +114,11 @@ void bind_image(py::module_& m) {
              return d;
            }, "per-pixel planes (read-only views): material (index into the scene's materials, -1 none, -2 LED), u, v, "
               "depth, cos_view, irradiance")
-      .def_property_readonly("attributes", [](const SpectralImage& i) { return i.attributes; }, "header strings")
+      .def_property_readonly("attributes", [](const SpectralImage& i) {
+             py::dict d;
+             for (auto& [k, v] : i.attributes) d[text(k)] = text(v);
+             return d;
+           }, "header strings (bytes that are not UTF-8 shown as U+FFFD)")
       .def_property_readonly("width", [](const SpectralImage& i) { return i.width; })
       .def_property_readonly("height", [](const SpectralImage& i) { return i.height; })
       .def_property_readonly("shape", [](const SpectralImage& i) { return py::make_tuple(i.height, i.width, i.bands()); })

@@ -51,10 +51,10 @@ py::object from_mat(const MatValue& m) {
   switch (m.kind) {
     case MatValue::Kind::kStruct: {
       py::dict d;
-      for (auto& [k, v] : m.fields) d[py::str(k)] = from_mat(v);
+      for (auto& [k, v] : m.fields) d[text(k)] = from_mat(v);
       return d;
     }
-    case MatValue::Kind::kText: return py::str(m.text);
+    case MatValue::Kind::kText: return text(m.text);
     case MatValue::Kind::kCell: {
       py::list l;
       for (auto& c : m.cells) l.append(from_mat(c));
@@ -123,7 +123,7 @@ py::dict read_spectrum_file(const py::object& path) {
   for (size_t j = 0; j < k; ++j) {
     py::array_t<double> c(n);
     for (size_t i = 0; i < n; ++i) c.mutable_at(i) = t.rows[i][j + 1];
-    cols[py::str(t.header[j + 1])] = c;
+    cols[text(t.header[j + 1])] = c;
   }
   py::dict d;
   d["nm"] = nm;
@@ -135,8 +135,7 @@ std::vector<std::string> str_list(const py::object& obj, const std::string& what
   std::vector<std::string> out;
   if (obj.is_none()) return out;
   if (py::isinstance<py::str>(obj)) return {obj.cast<std::string>()};
-  if (!py::isinstance<py::sequence>(obj)) throw InputError("", what, "expected a str or a list of str, got " + type_name(obj));
-  for (auto x : obj.cast<py::sequence>()) {
+  for (auto x : items_of(obj, what, "a str or a list of str")) {
     if (!py::isinstance<py::str>(x)) throw InputError("", what, "expected a list of str, got an item of type " + type_name(x));
     out.push_back(x.cast<std::string>());
   }
@@ -240,7 +239,7 @@ py::object diagnose(const py::object& input, const py::object& model, const py::
 void bind_interop(py::module_& m) {
   m.def("read_mat", [](const py::object& path) {
           py::dict d;
-          for (auto& [k, v] : read_mat_file(path_arg(path, "path"))) d[py::str(k)] = from_mat(v);
+          for (auto& [k, v] : read_mat_file(path_arg(path, "path"))) d[text(k)] = from_mat(v);
           return d;
         }, py::arg("path"), "every variable of a .mat file: structs as dicts, text as str, cells as lists, arrays as numpy");
   m.def("write_mat", [](const py::object& path, const py::object& vars) {
@@ -276,13 +275,10 @@ void bind_interop(py::module_& m) {
           };
           std::vector<double> nm = numbers(nm_in, "nm");
           std::vector<std::vector<double>> cols;
-          if (py::isinstance<py::str>(cols_in) || !py::isinstance<py::sequence>(cols_in))
-            throw InputError("", "columns", "expected a list of columns (each as many values as nm)");
-          for (auto c : cols_in.cast<py::sequence>()) cols.push_back(numbers(c, "columns"));
+          for (auto c : items_of(cols_in, "columns", "a list of columns (each as many values as nm)")) cols.push_back(numbers(c, "columns"));
           std::vector<std::string> names;
           if (!names_in.is_none()) {
-            if (py::isinstance<py::str>(names_in) || !py::isinstance<py::sequence>(names_in)) throw InputError("", "names", "expected a list of str");
-            for (auto n : names_in.cast<py::sequence>()) {
+            for (auto n : items_of(names_in, "names", "a list of str")) {
               if (!py::isinstance<py::str>(n)) throw InputError("", "names", "expected a list of str");
               names.push_back(n.cast<std::string>());
             }
@@ -290,7 +286,6 @@ void bind_interop(py::module_& m) {
           if (nm.empty()) throw InputError("", "nm", "no wavelengths");
           for (size_t i = 0; i < nm.size(); ++i)
             if (!std::isfinite(nm[i]) || (i > 0 && !(nm[i] > nm[i - 1]))) throw InputError("", "nm", "wavelengths must be finite and increase");
-          if (cols.empty()) throw InputError("", "columns", "no columns");
           for (auto& c : cols)
             if (c.size() != nm.size()) throw InputError("", "columns", "each column needs as many values as nm (" + std::to_string(nm.size()) + ")");
           if (!names.empty() && names.size() != cols.size()) throw InputError("", "names", "one name per column");

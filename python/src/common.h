@@ -23,8 +23,13 @@ namespace ofl::python {
 // conversion rules are Python's own; numpy scalars and arrays become numbers and lists, paths
 // strings. NaN/inf are refused (JSON has no such numbers). InputError names `what`.
 nlohmann::json to_json(const py::handle& obj, const std::string& what);
-// JSON -> Python objects.
+// JSON -> Python objects (bytes that are not UTF-8 become U+FFFD).
 py::object from_json(const nlohmann::json& j);
+// Text read from a file -> str, bytes that are not UTF-8 becoming U+FFFD (never UnicodeDecodeError).
+py::str text(const std::string& s);
+// A list, tuple or 1-D array as a Python list, else InputError naming `what` (str, bytes, numbers and
+// 0-d arrays included): "expected <expected>, got <type>".
+py::list items_of(const py::handle& obj, const std::string& what, const std::string& expected);
 
 // float32 array (rows, cols, bands) copied from a SpectralImage layout (row-major, bands contiguous).
 py::array_t<float> cube(const std::vector<float>& data, int height, int width, int bands);

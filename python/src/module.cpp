@@ -41,9 +41,14 @@ std::string range_text(int64_t lo, int64_t hi) { return "not in range " + std::t
 
 // operator.index(obj) (int and numpy integers; bool refused: True is not a sample count), or InputError.
 py::int_ index_of(const py::handle& obj, const std::string& arg, const std::string& expected) {
-  if (py::isinstance<py::bool_>(obj) || type_name(obj) == "bool_" || !PyIndex_Check(obj.ptr()))
-    throw InputError("", arg, "expected " + expected + ", got " + type_name(obj) + " " + py::repr(obj).cast<std::string>().substr(0, 40));
-  return py::reinterpret_steal<py::int_>(PyNumber_Index(obj.ptr()));
+  PyObject* i = nullptr;
+  if (!py::isinstance<py::bool_>(obj) && type_name(obj) != "bool_" && PyIndex_Check(obj.ptr())) i = PyNumber_Index(obj.ptr());
+  if (!i) {  // not an integer (a numpy array has __index__ but refuses it: that error is ours to give)
+    PyErr_Clear();
+    std::string shown = py::isinstance<py::array>(obj) ? "an array" : py::repr(obj).cast<std::string>().substr(0, 40);
+    throw InputError("", arg, "expected " + expected + ", got " + type_name(obj) + " " + shown);
+  }
+  return py::reinterpret_steal<py::int_>(i);
 }
 }  // namespace
 
@@ -109,7 +114,18 @@ std::string path_arg(const py::handle& obj, const std::string& arg) {
 }
 
 py::object from_json(const nlohmann::json& j) {
-  return py::module_::import("json").attr("loads")(j.dump());
+  return py::module_::import("json").attr("loads")(j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace));
+}
+
+py::str text(const std::string& s) {
+  return py::reinterpret_steal<py::str>(PyUnicode_DecodeUTF8(s.data(), py::ssize_t(s.size()), "replace"));
+}
+
+py::list items_of(const py::handle& obj, const std::string& what, const std::string& expected) {
+  py::object o = py::isinstance<py::array>(obj) ? obj.attr("tolist")() : py::reinterpret_borrow<py::object>(obj);
+  if (py::isinstance<py::str>(o) || py::isinstance<py::bytes>(o) || !py::isinstance<py::sequence>(o))
+    throw InputError("", what, "expected " + expected + ", got " + type_name(obj));
+  return py::list(o);
 }
 
 py::array_t<float> cube(const std::vector<float>& data, int height, int width, int bands) {

@@ -17,6 +17,7 @@ import math
 import os
 import pathlib
 import random
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -24,12 +25,23 @@ import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.abspath(os.environ.get("OFL_SOURCE_DIR", os.path.join(HERE, "..", "..")))
-MINIMAL = os.path.join(ROOT, "scenes", "minimal.json")
-CAMERA = os.path.join(ROOT, "scenes", "cameras", "oraleye.json")
+# The files the calls may name live in a scratch copy of scenes/ and assets/ (make_pool), and calls
+# run in a scratch folder: a writer handed a scene's name, or a short string, as its output must
+# not write into the source tree.
+MINIMAL = CAMERA = None
 
 
 def make_pool(ofl, np, tmp):
-    """Pool key -> a fresh value. Valid values are cheap (tiny images, small integers)."""
+    """Pool key -> a fresh value. Valid values are cheap (tiny images, small integers). Copies the
+    scenes and assets into `tmp` and points MINIMAL and CAMERA there."""
+    global MINIMAL, CAMERA
+    for name in ("scenes", "assets"):
+        if not os.path.exists(os.path.join(tmp, name)):
+            shutil.copytree(os.path.join(ROOT, name), os.path.join(tmp, name))
+    MINIMAL = os.path.join(tmp, "scenes", "minimal.json")
+    CAMERA = os.path.join(tmp, "scenes", "cameras", "oraleye.json")
+    readme = os.path.join(tmp, "README.md")
+    shutil.copy(os.path.join(ROOT, "README.md"), readme)
     tiny_scene = ofl.Scene(MINIMAL).set("/camera/resolution", [6, 4]).set("/integrator/spp", 1)
     state = {}
 
@@ -63,7 +75,7 @@ def make_pool(ofl, np, tmp):
         "path_minimal": lambda: pathlib.Path(MINIMAL), "str_minimal": lambda: MINIMAL, "str_camera": lambda: CAMERA,
         "path_out": lambda: pathlib.Path(tmp) / "out.bin", "str_out_mat": lambda: os.path.join(tmp, "o.mat"),
         "str_out_exr": lambda: os.path.join(tmp, "o.exr"), "path_out_dir": lambda: pathlib.Path(tmp) / "outdir",
-        "readme": lambda: os.path.join(ROOT, "README.md"),
+        "readme": lambda: readme,
         "image": lambda: render().image, "result": render, "shot": shot, "camera": lambda: ofl.Camera(CAMERA),
         "scene": lambda: ofl.Scene(tiny_scene), "camera_dict": lambda: {"sensor": {"cfa": "RGGB"}},
         "spectrum": lambda: ([380, 390, 400], [0, 1, 0]), "spectrum_dict": lambda: {"nm": [380, 400], "values": [1, 1]},
@@ -71,49 +83,55 @@ def make_pool(ofl, np, tmp):
     }
 
 
-# Entry point -> (callable factory, argument names). Arguments not drawn are left at their defaults.
+# Entry point -> (callable factory, required arguments, optional arguments). Every required
+# argument is drawn (Python's own TypeError for a missing one is not the module's to prevent);
+# each optional one is drawn or left at its default.
 def entries(ofl):
+    import numpy as np
     return {
-        "render": (lambda: ofl.render, ["scene", "spp", "seed", "width", "height", "threads", "progress", "aovs"]),
-        "simulate_camera": (lambda: ofl.simulate_camera, ["image", "camera", "seed", "noise", "threads"]),
-        "chromaticity": (lambda: ofl.chromaticity, ["raw", "cfa", "black", "white", "roi", "mask", "include_saturated"]),
-        "roi_chromaticity": (lambda: ofl.roi_chromaticity, ["camera_result", "roi", "mask", "include_saturated"]),
-        "SpectralImage": (lambda: ofl.SpectralImage, ["radiance", "wavelengths", "fluorescence", "aovs", "attributes"]),
-        "read_exr": (lambda: ofl.read_exr, ["path"]), "read_raw": (lambda: ofl.read_raw, ["path"]),
-        "read_mat": (lambda: ofl.read_mat, ["path"]), "read_iset_scene": (lambda: ofl.read_iset_scene, ["path"]),
-        "import_iset_sensor": (lambda: ofl.import_iset_sensor, ["path"]),
-        "read_spectrum_file": (lambda: ofl.read_spectrum_file, ["path"]),
-        "write_exr": (lambda: ofl.write_exr, ["path", "image"]),
-        "export_iset": (lambda: ofl.export_iset, ["image", "path", "distance_m", "hfov_deg"]),
-        "export_iset_oi": (lambda: ofl.export_iset_oi, ["image", "camera", "path"]),
-        "write_mat": (lambda: ofl.write_mat, ["path", "variables"]),
-        "write_spectrum_mat": (lambda: ofl.write_spectrum_mat, ["path", "nm", "columns", "names"]),
-        "fluorophores": (lambda: ofl.fluorophores, ["grid"]),
-        "fluorophore_eem": (lambda: ofl.fluorophore_eem, ["name", "grid"]),
-        "Scene": (lambda: ofl.Scene, ["source", "base_dir"]),
-        "Scene.set": (lambda: ofl.Scene(MINIMAL).set, ["pointer", "value"]),
-        "Scene.get": (lambda: ofl.Scene(MINIMAL).get, ["pointer"]),
-        "Camera": (lambda: ofl.Camera, ["source"]),
-        "Camera.to_dict": (lambda: ofl.Camera(CAMERA).to_dict, ["lo_nm", "hi_nm"]),
-        "reference_lines": (lambda: ofl.reference_lines, ["camera", "led", "concentrations", "grid_step", "camera_range",
-                                                          "field_angle_deg"]),
-        "diagnose": (lambda: ofl.diagnose, ["input", "model", "where", "z", "max_causes", "threads", "progress"]),
+        "render": (lambda: ofl.render, ["scene"], ["spp", "seed", "width", "height", "threads", "progress", "aovs"]),
+        "simulate_camera": (lambda: ofl.simulate_camera, ["image", "camera"], ["seed", "noise", "threads"]),
+        "chromaticity": (lambda: ofl.chromaticity, ["raw", "cfa", "black", "white"], ["roi", "mask", "include_saturated"]),
+        "roi_chromaticity": (lambda: ofl.roi_chromaticity, ["camera_result"], ["roi", "mask", "include_saturated"]),
+        "SpectralImage": (lambda: ofl.SpectralImage, ["radiance", "wavelengths"], ["fluorescence", "aovs", "attributes"]),
+        "SpectralImage.srgb": (lambda: ofl.SpectralImage(np.ones((2, 3, 4)), [400, 500, 600, 700]).srgb, [], ["white_radiance"]),
+        "read_exr": (lambda: ofl.read_exr, ["path"], []), "read_raw": (lambda: ofl.read_raw, ["path"], []),
+        "read_mat": (lambda: ofl.read_mat, ["path"], []), "read_iset_scene": (lambda: ofl.read_iset_scene, ["path"], []),
+        "import_iset_sensor": (lambda: ofl.import_iset_sensor, ["path"], []),
+        "read_spectrum_file": (lambda: ofl.read_spectrum_file, ["path"], []),
+        "write_exr": (lambda: ofl.write_exr, ["path", "image"], []),
+        "export_iset": (lambda: ofl.export_iset, ["image", "path"], ["distance_m", "hfov_deg"]),
+        "export_iset_oi": (lambda: ofl.export_iset_oi, ["image", "camera", "path"], []),
+        "write_mat": (lambda: ofl.write_mat, ["path", "variables"], []),
+        "write_spectrum_mat": (lambda: ofl.write_spectrum_mat, ["path", "nm", "columns"], ["names"]),
+        "fluorophores": (lambda: ofl.fluorophores, [], ["grid"]),
+        "fluorophore_eem": (lambda: ofl.fluorophore_eem, ["name"], ["grid"]),
+        "Scene": (lambda: ofl.Scene, ["source"], ["base_dir"]),
+        "Scene.set": (lambda: ofl.Scene(MINIMAL).set, ["pointer", "value"], []),
+        "Scene.get": (lambda: ofl.Scene(MINIMAL).get, ["pointer"], []),
+        "Camera": (lambda: ofl.Camera, ["source"], []),
+        "Camera.to_dict": (lambda: ofl.Camera(CAMERA).to_dict, [], ["lo_nm", "hi_nm"]),
+        "reference_lines": (lambda: ofl.reference_lines, ["camera", "led"], ["concentrations", "grid_step", "camera_range",
+                                                                            "field_angle_deg"]),
+        "diagnose": (lambda: ofl.diagnose, ["input", "model"], ["where", "z", "max_causes", "threads", "progress"]),
+        "CameraResult.write": (None, ["folder"], []),  # bound to the pool's camera result in run_case
     }
 
 
-def random_case(rng, names, pool_keys):
-    entry = rng.choice(sorted(names))
-    args = names[entry][1]
-    chosen = {a: rng.choice(pool_keys) for a in args if rng.random() < 0.8}
+def random_case(rng, table, pool_keys):
+    entry = rng.choice(sorted(table))
+    _, required, optional = table[entry]
+    chosen = {a: rng.choice(pool_keys) for a in required}
+    chosen.update({a: rng.choice(pool_keys) for a in optional if rng.random() < 0.6})
     return [entry, chosen]
 
 
 def run_case(ofl, pool, table, case):
     """Runs one case; returns None when the contract holds, else a one-line description."""
     entry, chosen = case
-    factory, _ = table[entry]
+    factory = table[entry][0]
     try:
-        fn = factory()
+        fn = pool["shot"]().write if entry == "CameraResult.write" else factory()
         kwargs = {a: pool[k]() for a, k in chosen.items()}
         fn(**kwargs)
     except ofl.InputError:
@@ -133,6 +151,7 @@ def child(args):
     import oralfluor as ofl
     rng = random.Random(args.seed)
     with tempfile.TemporaryDirectory() as tmp:
+        os.chdir(tmp)  # relative output names ("8", "RGGB") land in the scratch folder
         pool, table = make_pool(ofl, np, tmp), entries(ofl)
         keys = sorted(pool)
         with open(args.log, "w") as log:

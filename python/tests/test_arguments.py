@@ -189,3 +189,14 @@ def test_another_python_is_told_which_python_the_module_is_for(tmp_path):
     assert p.returncode != 0
     last = p.stderr.strip().splitlines()[-1]
     assert "was built for" in last and f"Python {sys.version.split()[0]}" in last and "Another Python" in last, last
+
+
+def test_text_that_is_not_utf8_reads_without_a_decode_error(tmp_path):
+    # A spectrum CSV whose header has a Latin-1 byte (a campaign's finding: UnicodeDecodeError).
+    (tmp_path / "latin1.csv").write_bytes(b"wavelength_nm,\xb5W per nm\n400,1\n500,2\n")
+    t = ofl.read_spectrum_file(tmp_path / "latin1.csv")
+    assert list(t["columns"]) == ["\ufffdW per nm"]
+    np.testing.assert_array_equal(t["columns"]["\ufffdW per nm"], [1, 2])
+    img = ofl.SpectralImage(np.ones((1, 1, 1)), [500], attributes={"note": "ok"})
+    ofl.write_exr(tmp_path / "a.exr", img)
+    assert ofl.read_exr(tmp_path / "a.exr").attributes["note"] == "ok"

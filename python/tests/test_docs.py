@@ -23,7 +23,7 @@ def checked_lines(code):
     for line in code.splitlines():
         m = CHECK.match(line)
         if m:
-            out.append(f"__got = repr({m['expr'].strip()}); assert __got == {m['want']!r}, "
+            out.append(f"__got = repr(({m['expr'].strip()})); assert __got == {m['want']!r}, "
                        f"'{{}} is {{}}, the doc says {{}}'.format({m['expr'].strip()!r}, __got, {m['want']!r})")
         else:
             out.append(line)

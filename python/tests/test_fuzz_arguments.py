@@ -17,7 +17,10 @@ REGRESSIONS = json.load(open(os.path.join(os.path.dirname(__file__), "fuzz_regre
 @pytest.fixture(scope="module")
 def harness(tmp_path_factory):
     tmp = str(tmp_path_factory.mktemp("fuzz"))
-    return fz.make_pool(ofl, np, tmp), fz.entries(ofl)
+    here = os.getcwd()
+    os.chdir(tmp)  # relative output names land in the scratch folder, not the source tree
+    yield fz.make_pool(ofl, np, tmp), fz.entries(ofl)
+    os.chdir(here)
 
 
 @pytest.mark.parametrize("case", REGRESSIONS, ids=[f"{c['case'][0]}-{i}" for i, c in enumerate(REGRESSIONS)])
