@@ -53,7 +53,7 @@ def panel_point(page, index, x, y):
 def close(shown, expected, scale):
     """float16 of value / scale, decoded: within half an ulp of the value, or of the smallest normal."""
     shown, expected = np.asarray(shown, float), np.asarray(expected, float)
-    tol = np.maximum(np.abs(expected) * HALF_REL, 6.2e-5 * np.asarray(scale)) * 1.01
+    tol = np.maximum(np.maximum(np.abs(expected) * HALF_REL, 6.2e-5 * np.asarray(scale)) * 1.01, 1e-30)
     return np.all(np.abs(shown - expected) <= tol), np.max(np.abs(shown - expected) / tol)
 
 
