@@ -25,5 +25,6 @@ void register_fluorophores_command(CLI::App& app);
 void register_mesh_command(CLI::App& app);
 void register_export_iset_command(CLI::App& app);
 void register_import_iset_command(CLI::App& app);
+void register_view_command(CLI::App& app);
 
 }  // namespace ofl

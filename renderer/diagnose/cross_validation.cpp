@@ -3,6 +3,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <map>
@@ -575,16 +576,21 @@ Diagnosis diagnose(const DiagnoseProblem& p, const SelectionOptions& o) {
     floor.instrument_mismatch = nearly_fits(lack_of_fit(p, full, dg.floor), o);
     std::vector<CvRun> runs(todo.size());
     ProgressBar bar("diagnose: cause " + std::to_string(step) + ", candidates", static_cast<int64_t>(todo.size()));
+    std::atomic<int64_t> tried{0};
+    std::atomic<bool> stop{false};  // SelectionOptions::progress said stop
     auto run_one = [&](size_t k) {
+      if (stop) return;
       std::vector<ModelState> st;
       for (int g = 0; g < G; ++g) st.push_back(with_cause(p, current.fold_states[g], todo[k]));
       runs[k] = cross_validate(p, st, static_cast<int>(st[0].causes.size()) - 1, dg.folds, false);
       bar.advance();
+      if (o.progress && !o.progress(step, ++tried, static_cast<int64_t>(todo.size()))) stop = true;
     };
     if (o.parallel)
       tbb::parallel_for(size_t(0), todo.size(), run_one);
     else
       for (size_t k = 0; k < todo.size(); ++k) run_one(k);
+    if (stop) throw Interrupted("diagnose stopped by its progress callback");
     std::vector<CandidateTrial> trials;
     for (size_t k = 0; k < todo.size(); ++k) trials.push_back(judge(p, todo[k], current, std::move(runs[k]), dg.folds, floor, o));
     if (step == 1) solo = trials;

@@ -18,6 +18,8 @@
 // Otherwise: "no significant effect".
 #pragma once
 #include <cmath>
+#include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -52,6 +54,10 @@ struct SelectionOptions {
   double mismatch_min_common_share = 0.5;
   double mismatch_tissue_min_effect = 1.0;
   bool parallel = true;
+  // For library callers (the Python module): called after each candidate cause is tried, from any
+  // worker thread, with (cause step, candidates done, candidates in this step). Returning false
+  // stops the diagnosis: the candidates in flight finish, then Interrupted is thrown.
+  std::function<bool(int step, int64_t done, int64_t total)> progress;
 };
 
 struct NoiseFloor {

@@ -39,6 +39,7 @@ DiagnoseOutcome run_diagnose_job(const DiagnoseJob& job) {
   if (job.max_causes) sel.max_causes = *job.max_causes;
   if (!job.report_by.empty()) sel.report_by = job.report_by;
   if (!job.shared_concentrations.empty()) m.spectra.shared_by = job.shared_concentrations;
+  sel.progress = job.progress;
 
   std::unique_ptr<DiagnoseProblem> problem;
   ReportContext ctx;

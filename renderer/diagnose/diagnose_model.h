@@ -3,6 +3,7 @@
 #pragma once
 #include <filesystem>
 #include <optional>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -41,6 +42,9 @@ struct DiagnoseJob {
   std::string fit_on;                      // "column=a,b": select and fit on these rows only...
   std::string predict;                     // ...and predict these ("" = every other row)
   std::vector<std::string> shared_concentrations;  // overrides the model's shared_concentrations (spectra)
+  // Library callers (the Python module): SelectionOptions::progress, called as causes are tried;
+  // returning false stops the run (Interrupted). Not part of to_json.
+  std::function<bool(int step, int64_t done, int64_t total)> progress;
   nlohmann::json to_json() const;
 };
 
