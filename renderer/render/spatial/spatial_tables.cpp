@@ -122,18 +122,31 @@ void fill_excitation_legs(const StackTables& st, const std::vector<std::vector<f
       }
 }
 
-}  // namespace
-
-double SpatialStack::elastic_density(double mu_o, int wl, double r_mm) const {
-  const auto cw = prof->weights(mu_o);
-  double d = 0;
-  for (int a = 0; a < 2; ++a)
-    if (cw.w[a] > 0) d += cw.w[a] * radial::density(el_rings(), &el_mass[el_at(cw.c[a], wl)], r_mm);
-  return d;
+// Ring masses as densities per unit area.
+void densities(const std::vector<float>& mass, const RadialRings& g, std::vector<float>& out) {
+  out.resize(mass.size());
+  for (size_t i = 0; i < mass.size(); ++i) out[i] = float(mass[i] / g.area(int(i % g.rings)));
 }
 
-double SpatialStack::slice_weight(int g, double mu_o, double mu_i, int em, int z) const {
-  const auto wo = prof->weights(mu_o), wi = prof->weights(mu_i);
+}  // namespace
+
+double SpatialStack::elastic_density(const Cosines& cw, int wl, double r_mm) const {
+  const int j = el_rings().ring_of(r_mm);
+  return j < 0 ? 0.0 : elastic_density_in(cw, wl, j);
+}
+
+void SpatialStack::slice_weights(int g, const Cosines& wo, const Cosines& wi, int em, double* out) const {
+  for (int z = 0; z < Z; ++z) out[z] = 0;
+  for (int a = 0; a < 2; ++a)
+    for (int b = 0; b < 2; ++b) {
+      const double w = wo.w[a] * wi.w[b];
+      if (!(w > 0)) continue;
+      const float* c = &slice_c[slice_at(g, wo.c[a], wi.c[b], em) * Z];
+      for (int z = 0; z < Z; ++z) out[z] += w * c[z];
+    }
+}
+
+double SpatialStack::slice_weight(int g, const Cosines& wo, const Cosines& wi, int em, int z) const {
   double v = 0;
   for (int a = 0; a < 2; ++a)
     for (int b = 0; b < 2; ++b)
@@ -141,8 +154,7 @@ double SpatialStack::slice_weight(int g, double mu_o, double mu_i, int em, int z
   return v;
 }
 
-double SpatialStack::slice_sum(int g, double mu_o, double mu_i, int em) const {
-  const auto wo = prof->weights(mu_o), wi = prof->weights(mu_i);
+double SpatialStack::slice_sum(int g, const Cosines& wo, const Cosines& wi, int em) const {
   double v = 0;
   for (int a = 0; a < 2; ++a)
     for (int b = 0; b < 2; ++b)
@@ -150,19 +162,17 @@ double SpatialStack::slice_sum(int g, double mu_o, double mu_i, int em) const {
   return v;
 }
 
-double SpatialStack::emission_density(double mu_o, int em, int z, double r_mm) const {
-  const auto cw = prof->weights(mu_o);
-  double d = 0;
-  for (int a = 0; a < 2; ++a)
-    if (cw.w[a] > 0) d += cw.w[a] * radial::density(leg_rings(), &leg_mass[leg_at(cw.c[a], em, z)], r_mm);
-  return d;
+double SpatialStack::emission_density(const Cosines& cw, int em, int z, double r_mm) const {
+  const int j = leg_rings().ring_of(r_mm);
+  return j < 0 ? 0.0 : emission_density_in(cw, em, z, j);
 }
 
-double SpatialStack::excitation_density(int g, double mu_i, int z, double r_mm) const {
-  const auto cw = prof->weights(mu_i);
+double SpatialStack::excitation_density(int g, const Cosines& cw, int z, double r_mm) const {
+  const int j = leg_rings().ring_of(r_mm);
+  if (j < 0) return 0.0;
   double d = 0;
   for (int a = 0; a < 2; ++a)
-    if (cw.w[a] > 0) d += cw.w[a] * radial::density(leg_rings(), &ex_mass[ex_at(g, cw.c[a], z)], r_mm);
+    if (cw.w[a] > 0) d += cw.w[a] * ex_dens[ex_at(g, cw.c[a], z) + j];
   return d;
 }
 
@@ -186,6 +196,9 @@ std::shared_ptr<const SpatialStack> build_spatial_stack(const StackTables& st, s
   cut_profiles(prof->leg_mass, n_leg, RL, prof->leg_rings.ring_of(s->search_mm * (1 - 1e-12)) + 1, s->leg_mass, s->leg_cdf);
   fill_slice_weights(st, shapes, *s);
   if (s->fluorescent) fill_excitation_legs(st, shapes, *s);
+  densities(s->el_mass, prof->elastic_rings, s->el_dens);
+  densities(s->leg_mass, prof->leg_rings, s->leg_dens);
+  densities(s->ex_mass, prof->leg_rings, s->ex_dens);
   return s;
 }
 

@@ -33,6 +33,8 @@ struct SpatialStack {
   std::vector<float> slice_c, slice_total;
   // Excitation legs per LED group: [((g * C + c) * Z + z) * R_leg + j].
   std::vector<float> ex_mass, ex_cdf;
+  // The same three as densities per unit area (mass / ring area, 1/mm^2), for evaluation.
+  std::vector<float> el_dens, leg_dens, ex_dens;
   bool fluorescent = false;
 
   const RadialRings& el_rings() const { return prof->elastic_rings; }
@@ -42,15 +44,27 @@ struct SpatialStack {
   size_t ex_at(int g, int c, int z) const { return ((size_t(g) * C + c) * Z + z) * prof->leg_rings.rings; }
   size_t slice_at(int g, int co, int ci, int em) const { return ((size_t(g) * C + co) * C + ci) * n + em; }
 
-  // Elastic exit density (1/mm^2) at r for a viewer at cosine mu_o (interpolated between cosines).
-  double elastic_density(double mu_o, int wl, double r_mm) const;
-  // Direct-fluorescence depth weight c(z) and its sum over the slices, interpolated in both cosines.
-  double slice_weight(int g, double mu_o, double mu_i, int em, int z) const;
-  double slice_sum(int g, double mu_o, double mu_i, int em) const;
-  // The emission leg's density (1/mm^2) at r in slice z, viewer cosine mu_o; the excitation leg's for
-  // LED group g at light cosine mu_i.
-  double emission_density(double mu_o, int em, int z, double r_mm) const;
-  double excitation_density(int g, double mu_i, int z, double r_mm) const;
+  using Cosines = StackProfiles::CosineWeights;
+  Cosines cosines(double mu) const { return prof->weights(mu); }
+  // Elastic exit density (1/mm^2) at r for a viewer at cosine mu_o (interpolated between cosines);
+  // the second form takes the ring of r (el_rings().ring_of(r), >= 0), shared by several lanes.
+  double elastic_density(const Cosines& co, int wl, double r_mm) const;
+  double elastic_density_in(const Cosines& co, int wl, int ring) const {
+    return co.w[0] * el_dens[el_at(co.c[0], wl) + ring] + (co.w[1] > 0 ? co.w[1] * el_dens[el_at(co.c[1], wl) + ring] : 0.0);
+  }
+  // Direct-fluorescence depth weights c(z) for every slice (out[Z]) and one slice, and their sum over
+  // the slices, interpolated in both cosines (viewer co, light ci).
+  void slice_weights(int g, const Cosines& co, const Cosines& ci, int em, double* out) const;
+  double slice_weight(int g, const Cosines& co, const Cosines& ci, int em, int z) const;
+  double slice_sum(int g, const Cosines& co, const Cosines& ci, int em) const;
+  // The emission leg's density (1/mm^2) at r in slice z, viewer cosines co; the excitation leg's for
+  // LED group g at light cosines ci.
+  double emission_density(const Cosines& co, int em, int z, double r_mm) const;
+  double emission_density_in(const Cosines& co, int em, int z, int ring) const {
+    return co.w[0] * leg_dens[leg_at(co.c[0], em, z) + ring] +
+           (co.w[1] > 0 ? co.w[1] * leg_dens[leg_at(co.c[1], em, z) + ring] : 0.0);
+  }
+  double excitation_density(int g, const Cosines& ci, int z, double r_mm) const;
 };
 
 // Prepares the spatial tables of a stack (null when it has no profiles to build them from).

@@ -3,8 +3,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdlib>
-#include <cstring>
 
 #include <glm/geometric.hpp>
 
@@ -18,21 +16,6 @@ namespace {
 
 constexpr double kMmPerMetre = 1000.0;
 constexpr int kMaxSlices = 64;
-
-// Which material governs a reflected (elastic) path that entered at x_i and leaves at x_o across a
-// region boundary (docs/layered-tissue.md, "Regions and lateral transport").
-enum class ElasticRule { kExit, kEntry, kEither, kSegment };
-
-ElasticRule elastic_rule() {
-  static const ElasticRule r = [] {
-    const char* e = std::getenv("OFL_SPATIAL_RULE");
-    if (e && std::strcmp(e, "entry") == 0) return ElasticRule::kEntry;
-    if (e && std::strcmp(e, "either") == 0) return ElasticRule::kEither;
-    if (e && std::strcmp(e, "segment") == 0) return ElasticRule::kSegment;
-    return ElasticRule::kExit;
-  }();
-  return r;
-}
 
 int pick_index(const double* w, int n, double u) {
   double total = 0;
@@ -83,12 +66,14 @@ struct SpatialTransport::Vertex {
   double p_spec = 0;  // probability that the continuation is the top interface's reflection at x_o
   int light = -1, group = 0;
   double mu_i_proxy = 1;  // the light's cosine at x_o, standing in for its cosine at the entry point
+  SpatialStack::Cosines co, ci_proxy;  // the profiles' interpolation weights at mu_o and mu_i_proxy
 };
 
 struct SpatialTransport::Entry {
   bool found = false;
   bool fluorescent = false;
-  double q = 1;                 // probability of this strategy
+  double q_nee = 1;             // probability that this strategy was run (its next-event estimates are divided by it)
+  double q_cont = 1;            // probability that the path continues from this entry (within the subsurface)
   SurfacePoint xi;              // entry point, normals toward the viewer's side
   int material = -1;            // governing material (elastic) or the emission point's (fluorescent)
   double pdf = 0;               // elastic: area density of x_i (1/mm^2)
@@ -146,49 +131,54 @@ void SpatialTransport::top_light(Vertex& v, Rng& rng, RayCounts& counts, RayLog*
   for (int k = 0; k < kLanes; ++k) v.p.add(k, v.p.beta[k] * fs * shape[v.p.wl[k]] * ls.g * mis);
 }
 
-// The probability of the fluorescent strategy: its share of what the two are expected to add by
-// next-event estimation (position-free, at the light's cosine at x_o), kept within [0.1, 0.9] when
-// both can add something, so that light reaching the tissue other than from the LEDs keeps both.
-double SpatialTransport::fluorescent_share(const Vertex& v) const {
-  if (!v.S.fluorescent || v.R.fluor.empty()) return 0.0;
+// How the two subsurface strategies are run (spatial_vertex.h): what each is expected to add by
+// next-event estimation (position-free, at the light's cosine at x_o) and to carry on into the
+// continuation (the table's albedos at the viewer's cosine), over the lanes.
+SpatialTransport::Plan SpatialTransport::plan(const Vertex& v) const {
+  Plan pl;
+  const bool fluorescent = v.S.fluorescent && !v.R.fluor.empty();
   const auto a = v.R.weights(v.mu_o), b = v.R.weights(v.mu_i_proxy);
-  const float* shape = t_.light_shape.empty() ? nullptr : t_.light_shape[v.group].data();
-  double el = 0, fl = 0;
+  const float* shape = v.light >= 0 ? t_.light_shape[v.group].data() : nullptr;
+  double nee_el = 0, nee_fl = 0, cont_el = 0, cont_fl = 0;
   for (int k = 0; k < kLanes; ++k) {
-    if (v.p.beta[k] == 0) continue;
-    if (shape) el += v.p.beta[k] * v.R.elastic_at(a, b, v.p.wl[k]) * shape[v.p.wl[k]];
-    if (!v.R.direct.empty()) fl += v.p.beta[k] * v.R.direct_at(v.group, a, b, v.p.wl[k]);
+    const double beta = v.p.beta[k];
+    if (beta == 0) continue;
+    const int wl = v.p.wl[k];
+    if (shape) nee_el += beta * v.R.elastic_at(a, b, wl) * shape[wl];
+    if (shape && fluorescent && !v.R.direct.empty()) nee_fl += beta * v.R.direct_at(v.group, a, b, wl);
+    cont_el += beta * v.R.elastic_at(a, a, wl);
+    if (fluorescent) cont_fl += beta * v.R.fluor_sum_at(a, a, wl);
   }
-  if (!(el + fl > 0)) return 0.5;
-  return std::clamp(fl / (el + fl), 0.1, 0.9);
-}
-
-// The material under a point of the segment from x_o to x_i (at fraction t), found by a probe along
-// x_o's normal; x_o's own when the probe finds none on its side.
-int SpatialTransport::segment_material(const Vertex& v, const SurfacePoint& xi, double t, RayCounts& counts) const {
-  const glm::dvec3 d = xi.p - v.xo.p;
-  const glm::dvec3 planar = d - glm::dot(d, v.frame.z) * v.frame.z;
-  const glm::dvec3 mid = v.xo.p + t * planar;
-  const double h = v.S.search_mm / kMmPerMetre;
-  SurfacePoint hits[kMaxProbeHits];
-  ++counts.probe;
-  const int nh = probe_segment(embree_, v.geom, mid + h * v.frame.z, mid - h * v.frame.z, hits);
-  int best = -1;
-  for (int i = 0; i < nh; ++i)
-    if (same_side(hits[i], v.xo) && (best < 0 || glm::length(hits[i].p - mid) < glm::length(hits[best].p - mid))) best = i;
-  return best >= 0 && spatial_material(hits[best].material) ? hits[best].material : v.xo.material;
+  // The continuation: top reflection with p_spec, else one entry, in proportion to what it carries
+  // (kept within [0.1, 0.9] when both carry something).
+  const double c_fl = cont_el + cont_fl > 0 ? cont_fl / (cont_el + cont_fl) : 0.0;
+  pl.cont_fl = cont_fl > 0 && cont_el > 0 ? std::clamp(c_fl, 0.1, 0.9) : (cont_fl > 0 ? 1.0 : 0.0);
+  // Next-event estimation: the strategy expected to add more always runs, the other in proportion
+  // (at least a tenth of the time), and each runs anyway when the path continues from its entry.
+  const double top = std::max(nee_el, nee_fl);
+  pl.run_el = top > 0 ? std::clamp(nee_el / top, nee_el > 0 ? 0.1 : 0.0, 1.0) : 0.0;
+  pl.run_fl = top > 0 ? std::clamp(nee_fl / top, nee_fl > 0 ? 0.1 : 0.0, 1.0) : 0.0;
+  return pl;
 }
 
 SpatialTransport::Entry SpatialTransport::sample_elastic(Vertex& v, Rng& rng, RayCounts& counts) const {
   Entry e;
-  double alpha[kLanes];
-  for (int k = 0; k < kLanes; ++k) alpha[k] = v.p.beta[k];
-  const int k = pick_index(alpha, kLanes, rng.next_double());
+  // The lanes' mixture: half in proportion to the throughput, half to the reflected light each lane is
+  // expected to get from the chosen LED (so that the LED's own band, which carries most reflected
+  // light, samples its own short profile), at the light's cosine at x_o.
+  double alpha[kLanes], lit[kLanes], bsum = 0, lsum = 0;
+  const auto a = v.R.weights(v.mu_o), b = v.R.weights(v.mu_i_proxy);
+  const float* shape = v.light >= 0 ? t_.light_shape[v.group].data() : nullptr;
+  for (int k = 0; k < kLanes; ++k) {
+    lit[k] = shape && v.p.beta[k] > 0 ? v.p.beta[k] * v.R.elastic_at(a, b, v.p.wl[k]) * shape[v.p.wl[k]] : 0.0;
+    bsum += v.p.beta[k];
+    lsum += lit[k];
+  }
+  if (!(bsum > 0)) return e;
   double asum = 0;
-  for (double a : alpha) asum += a;
-  if (!(asum > 0)) return e;
-  const auto cw = v.S.prof->weights(v.mu_o);
-  const int c = pick_cosine(cw, rng.next_double());
+  for (int k = 0; k < kLanes; ++k) asum += alpha[k] = 0.2 * v.p.beta[k] / bsum + 0.8 * (lsum > 0 ? lit[k] / lsum : v.p.beta[k] / bsum);
+  const int k = pick_index(alpha, kLanes, rng.next_double());
+  const int c = pick_cosine(v.co, rng.next_double());
   const double r = radial::sample(v.S.el_rings(), &v.S.el_cdf[v.S.el_at(c, v.p.wl[k])], rng.next_double(), rng.next_double());
   const double phi = 2.0 * kPi * rng.next_double();
   const int axis = pick_axis(rng.next_double());
@@ -198,20 +188,20 @@ SpatialTransport::Entry SpatialTransport::sample_elastic(Vertex& v, Rng& rng, Ra
   e.xi = pr.sp;
   if (!same_side(e.xi, v.xo)) return e;
   e.pdf = probe_density(v.xo.p, v.frame, e.xi, pr.hits, [&](double rr) {
+    const int ring = v.S.el_rings().ring_of(rr);
+    if (ring < 0) return 0.0;
     double d = 0;
     for (int j = 0; j < kLanes; ++j)
-      if (alpha[j] > 0) d += alpha[j] / asum * v.S.elastic_density(v.mu_o, v.p.wl[j], rr);
-    return d;
+      if (alpha[j] > 0) d += alpha[j] * v.S.elastic_density_in(v.co, v.p.wl[j], ring);
+    return d / asum;
   });
   e.r_mm = glm::length(e.xi.p - v.xo.p) * kMmPerMetre;
   const int mi = e.xi.material;
   if (!spatial_material(mi) || !(e.pdf > 0)) return e;
-  switch (elastic_rule()) {
-    case ElasticRule::kExit: e.material = v.xo.material; break;
-    case ElasticRule::kEntry: e.material = mi; break;
-    case ElasticRule::kEither: e.material = rng.next_double() < 0.5 ? v.xo.material : mi; break;
-    case ElasticRule::kSegment: e.material = segment_material(v, e.xi, rng.next_double(), counts); break;
-  }
+  // Reflected light is governed by the material where it entered (docs/layered-tissue.md, "Regions
+  // and lateral transport": against the 3D Monte Carlo of a lesion disc this rule is within the noise,
+  // the exit point's material is not).
+  e.material = mi;
   e.found = true;
   return e;
 }
@@ -227,8 +217,9 @@ SpatialTransport::Entry SpatialTransport::sample_fluorescent(Vertex& v, Rng& rng
   for (int k = 0; k < kLanes; ++k) {
     alpha[k] = 0;
     if (v.p.beta[k] == 0) continue;
+    S.slice_weights(v.group, v.co, v.ci_proxy, v.p.wl[k], omega[k]);
     double total = 0;
-    for (int z = 0; z < Z; ++z) total += omega[k][z] = S.slice_weight(v.group, v.mu_o, v.mu_i_proxy, v.p.wl[k], z);
+    for (int z = 0; z < Z; ++z) total += omega[k][z];
     if (!(total > 0)) continue;
     for (int z = 0; z < Z; ++z) omega[k][z] /= total;
     alpha[k] = v.p.beta[k] * total;
@@ -237,15 +228,15 @@ SpatialTransport::Entry SpatialTransport::sample_fluorescent(Vertex& v, Rng& rng
   if (!(asum > 0)) return e;
   const int k = pick_index(alpha, kLanes, rng.next_double());
   const int z = pick_index(omega[k], Z, rng.next_double());
-  const auto cw = S.prof->weights(v.mu_o);
-  const int c = pick_cosine(cw, rng.next_double());
+  const int c = pick_cosine(v.co, rng.next_double());
   const double rho = radial::sample(S.leg_rings(), &S.leg_cdf[S.leg_at(c, v.p.wl[k], z)], rng.next_double(), rng.next_double());
   const double phi = 2.0 * kPi * rng.next_double();
   e.z = z;
   e.rho_m = rho;
   e.pdf_m = 0;
-  for (int j = 0; j < kLanes; ++j)
-    if (alpha[j] > 0) e.pdf_m += alpha[j] / asum * omega[j][z] * S.emission_density(v.mu_o, v.p.wl[j], z, rho);
+  const int ring = S.leg_rings().ring_of(rho);
+  for (int j = 0; j < kLanes && ring >= 0; ++j)
+    if (alpha[j] > 0) e.pdf_m += alpha[j] / asum * omega[j][z] * S.emission_density_in(v.co, v.p.wl[j], z, ring);
   // The surface above the emission point: the mesh's crossing nearest to x_o's tangent plane.
   const glm::dvec3 mid = v.xo.p + (rho / kMmPerMetre) * (std::cos(phi) * v.frame.x + std::sin(phi) * v.frame.y);
   const double h = S.search_mm / kMmPerMetre;
@@ -263,7 +254,7 @@ SpatialTransport::Entry SpatialTransport::sample_fluorescent(Vertex& v, Rng& rng
   // The entry point: the excitation leg of the emission point's material from x_m.
   const SpatialStack& Sm = *t_.materials[xm.material].stack.spatial;
   const Frame fm(xm.ng);
-  const int ci = pick_cosine(Sm.prof->weights(v.mu_i_proxy), rng.next_double());
+  const int ci = pick_cosine(v.ci_proxy, rng.next_double());
   const double r = radial::sample(Sm.leg_rings(), &Sm.ex_cdf[Sm.ex_at(v.group, ci, z)], rng.next_double(), rng.next_double());
   const double phi_i = 2.0 * kPi * rng.next_double();
   const int axis = pick_axis(rng.next_double());
@@ -272,7 +263,7 @@ SpatialTransport::Entry SpatialTransport::sample_fluorescent(Vertex& v, Rng& rng
   if (!pr.found) return e;
   e.xi = pr.sp;
   if (!same_side(e.xi, v.xo)) return e;
-  e.pdf_i = probe_density(xm.p, fm, e.xi, pr.hits, [&](double rr) { return Sm.excitation_density(v.group, v.mu_i_proxy, z, rr); });
+  e.pdf_i = probe_density(xm.p, fm, e.xi, pr.hits, [&](double rr) { return Sm.excitation_density(v.group, v.ci_proxy, z, rr); });
   e.rho_i = glm::length(e.xi.p - xm.p) * kMmPerMetre;
   e.found = spatial_material(e.xi.material) && e.pdf_m > 0 && e.pdf_i > 0;
   return e;
@@ -288,27 +279,29 @@ void SpatialTransport::entry_light(Vertex& v, Entry& e, Rng& rng, RayCounts& cou
   const SpatialStack& S = *m.stack.spatial;
   const StackResponse& R = *m.stack.response;
   const auto a = R.weights(v.mu_o), b = R.weights(ls.wi.z);
+  const auto ci = S.cosines(ls.wi.z);
   const float* shape = t_.light_shape[ls.group].data();
   if (!e.fluorescent) {
-    const double mis = ls.pdf_solid > 0 ? power_heuristic(ls.pdf_solid, (1.0 - v.p_spec) * cosine_hemisphere_pdf(ls.wi.z)) : 1.0;
+    const double cont = (1.0 - v.p_spec) * cosine_hemisphere_pdf(ls.wi.z) * e.q_cont / e.q_nee;
+    const double mis = ls.pdf_solid > 0 ? power_heuristic(ls.pdf_solid, cont) : 1.0;
     for (int k = 0; k < kLanes; ++k) {
       if (v.p.beta[k] == 0) continue;
       const int wl = v.p.wl[k];
-      const double f = R.elastic_at(a, b, wl) * S.elastic_density(v.mu_o, wl, e.r_mm) / e.pdf;
-      v.p.add(k, v.p.beta[k] * f * shape[wl] * ls.g * mis / e.q);
+      const double f = R.elastic_at(a, b, wl) * S.elastic_density(v.co, wl, e.r_mm) / e.pdf;
+      v.p.add(k, v.p.beta[k] * f * shape[wl] * ls.g * mis / e.q_nee);
     }
     return;
   }
   if (R.direct.empty()) return;
-  const double legs = S.excitation_density(ls.group, ls.wi.z, e.z, e.rho_i) / (e.pdf_m * e.pdf_i);
+  const double legs = S.excitation_density(ls.group, ci, e.z, e.rho_i) / (e.pdf_m * e.pdf_i);
   for (int k = 0; k < kLanes; ++k) {
     if (v.p.beta[k] == 0) continue;
     const int em = v.p.wl[k];
-    const double total = S.slice_sum(ls.group, v.mu_o, ls.wi.z, em);
+    const double total = S.slice_sum(ls.group, v.co, ci, em);
     if (!(total > 0)) continue;
-    const double depth = S.slice_weight(ls.group, v.mu_o, ls.wi.z, em, e.z) / total;
-    const double f = R.direct_at(ls.group, a, b, em) * depth * S.emission_density(v.mu_o, em, e.z, e.rho_m) * legs;
-    const double add = v.p.beta[k] * f * ls.g / e.q;
+    const double depth = S.slice_weight(ls.group, v.co, ci, em, e.z) / total;
+    const double f = R.direct_at(ls.group, a, b, em) * depth * S.emission_density(v.co, em, e.z, e.rho_m) * legs;
+    const double add = v.p.beta[k] * f * ls.g / e.q_nee;
     v.p.L[k] += float(add);
     v.p.Lf[k] += float(add);
   }
@@ -326,21 +319,22 @@ SpatialScatter SpatialTransport::continue_at_entry(Vertex& v, Entry& e, Rng& rng
   const SpatialStack& S = *m.stack.spatial;
   const StackResponse& R = *m.stack.response;
   const auto a = R.weights(v.mu_o), b = R.weights(wi.z);
-  const double geo = wi.z / (pdf * e.q);
-  const double legs = e.fluorescent ? S.excitation_density(v.group, wi.z, e.z, e.rho_i) / (e.pdf_m * e.pdf_i) : 0.0;
+  const auto ci = S.cosines(wi.z);
+  const double geo = wi.z / (pdf * e.q_cont);
+  const double legs = e.fluorescent ? S.excitation_density(v.group, ci, e.z, e.rho_i) / (e.pdf_m * e.pdf_i) : 0.0;
   bool any = false;
   for (int k = 0; k < kLanes; ++k) {
     if (v.p.beta[k] == 0) continue;
     const int em = v.p.wl[k];
     double f = 0;
     if (!e.fluorescent) {
-      f = R.elastic_at(a, b, em) * S.elastic_density(v.mu_o, em, e.r_mm) / e.pdf;
+      f = R.elastic_at(a, b, em) * S.elastic_density(v.co, em, e.r_mm) / e.pdf;
       v.p.rerad_prev[k] = false;
     } else if (!R.fluor.empty()) {
-      const double total = S.slice_sum(v.group, v.mu_o, wi.z, em);
+      const double total = S.slice_sum(v.group, v.co, ci, em);
       if (total > 0)
-        f = R.fluor_sum_at(a, b, em) * S.slice_weight(v.group, v.mu_o, wi.z, em, e.z) / total *
-            S.emission_density(v.mu_o, em, e.z, e.rho_m) * legs;
+        f = R.fluor_sum_at(a, b, em) * S.slice_weight(v.group, v.co, ci, em, e.z) / total *
+            S.emission_density(v.co, em, e.z, e.rho_m) * legs;
       if (f > 0) {
         v.p.wl[k] = R.sample_excitation(a, b, em, rng.next_double(), rng.next_float());
         v.p.fl[k] = true;
@@ -354,7 +348,7 @@ SpatialScatter SpatialTransport::continue_at_entry(Vertex& v, Entry& e, Rng& rng
   c.ok = true;
   c.from = e.xi;
   c.wi_world = wi_w;
-  c.pdf = e.fluorescent ? 0.0 : pdf;
+  c.pdf = e.fluorescent ? 0.0 : pdf * e.q_cont / e.q_nee;  // as the next-event MIS weighs it
   return c;
 }
 
@@ -399,13 +393,28 @@ SpatialScatter SpatialTransport::scatter(const SurfacePoint& xo, unsigned geom, 
     const glm::dvec3 to = glm::normalize(scene_.lights[v.light].position - xo.p);
     v.mu_i_proxy = std::clamp(glm::dot(to, xo.ns), 0.05, 1.0);
   }
-  const double q_fl = fluorescent_share(v);
-  const bool fluorescent = rng.next_double() < q_fl;
-  Entry e = fluorescent ? sample_fluorescent(v, rng, counts) : sample_elastic(v, rng, counts);
-  e.q = fluorescent ? q_fl : 1.0 - q_fl;
-  if (e.found) entry_light(v, e, rng, counts, log);
-  if (rng.next_double() < v.p_spec) return continue_at_top(v, rng);
-  if (!e.found) return {};
+  v.co = v.S.cosines(v.mu_o);
+  v.ci_proxy = v.S.cosines(v.mu_i_proxy);
+  // Which entry the path continues from (if not from the top), then which strategies run.
+  const Plan pl = plan(v);
+  const bool top = rng.next_double() < v.p_spec;
+  const bool cont_fl = !top && rng.next_double() < pl.cont_fl;
+  const bool cont_el = !top && !cont_fl;
+  Entry entries[2];
+  for (int f = 0; f < 2; ++f) {
+    const bool fl = f == 1;
+    const double c = (1.0 - v.p_spec) * (fl ? pl.cont_fl : 1.0 - pl.cont_fl), run = fl ? pl.run_fl : pl.run_el;
+    const bool chosen = fl ? cont_fl : cont_el;
+    if (!chosen && !(rng.next_double() < run)) continue;
+    Entry& e = entries[f];
+    e = fl ? sample_fluorescent(v, rng, counts) : sample_elastic(v, rng, counts);
+    e.q_nee = c + (1.0 - c) * run;
+    e.q_cont = fl ? pl.cont_fl : 1.0 - pl.cont_fl;
+    if (e.found) entry_light(v, e, rng, counts, log);
+  }
+  if (top) return continue_at_top(v, rng);
+  Entry& e = entries[cont_fl ? 1 : 0];
+  if (!e.found || !(e.q_cont > 0)) return {};
   return continue_at_entry(v, e, rng);
 }
 

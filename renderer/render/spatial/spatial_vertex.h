@@ -4,7 +4,8 @@
 // directional response (renderer/render/stack_response.h) times a radial profile from
 // stack_profiles.h. Per vertex:
 // 1. The top interface's specular lobe stays at x_o (closed form, next-event estimation there).
-// 2. One of two subsurface strategies, chosen in proportion to what each is expected to add:
+// 2. Two subsurface strategies, each run with a probability that follows what it is expected to add
+//    (the larger always; both when the path continues from its entry), its estimates divided by it:
 //    - elastic: an entry point x_i at distance r drawn from the elastic exit profile of the lanes'
 //      wavelengths (for the viewer's cosine; by reciprocity where light leaving toward the viewer
 //      entered), found on the mesh by a probe ray (renderer/render/spatial/surface_probe.h);
@@ -18,8 +19,8 @@
 // 3. The continuation is the top lobe's reflection from x_o, or leaves x_i (cosine lobe) carrying
 //    the chosen strategy's lanes (fluorescent lanes move to an excitation wavelength drawn from the
 //    table).
-// Across `regions`: the entry point's material is found by the probe, and the material that governs
-// a path is chosen by the rules in docs/layered-tissue.md ("Regions and lateral transport").
+// Across `regions`: reflected light follows the material where it entered, fluorescence the material
+// at the emission point (docs/layered-tissue.md, "Regions and lateral transport").
 #pragma once
 #include "renderer/render/embree_scene.h"
 #include "renderer/render/path_lanes.h"
@@ -52,11 +53,15 @@ class SpatialTransport {
  private:
   struct Vertex;
   struct Entry;
+  // The probabilities of running each subsurface strategy's next-event estimation (beyond the one the
+  // path continues from) and of continuing from the fluorescent strategy's entry.
+  struct Plan {
+    double run_el = 0, run_fl = 0, cont_fl = 0;
+  };
+  Plan plan(const Vertex& v) const;
   LightSample connect(int light, const SurfacePoint& x, const Frame& f, Rng& rng, RayCounts& counts, RayLog* log) const;
   void top_light(Vertex& v, Rng& rng, RayCounts& counts, RayLog* log) const;
-  double fluorescent_share(const Vertex& v) const;
   Entry sample_elastic(Vertex& v, Rng& rng, RayCounts& counts) const;
-  int segment_material(const Vertex& v, const SurfacePoint& xi, double t, RayCounts& counts) const;
   Entry sample_fluorescent(Vertex& v, Rng& rng, RayCounts& counts) const;
   void entry_light(Vertex& v, Entry& e, Rng& rng, RayCounts& counts, RayLog* log) const;
   SpatialScatter continue_at_entry(Vertex& v, Entry& e, Rng& rng) const;

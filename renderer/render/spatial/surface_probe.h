@@ -21,7 +21,7 @@
 namespace ofl {
 
 constexpr int kMaxProbeHits = 8;
-inline constexpr std::array<double, 3> kProbeAxisProbability = {0.8, 0.1, 0.1};  // normal, tangent x, tangent y
+inline constexpr std::array<double, 3> kProbeAxisProbability = {0.9, 0.05, 0.05};  // normal, tangent x, tangent y
 
 struct ProbeResult {
   bool found = false;
