@@ -313,4 +313,14 @@ TEST(DiagnoseTissuePer, EachSubjectItsOwnTissueOneInstrumentForAll) {
   p.fill_unfitted(s, without_s4);
   for (size_t q = 0; q < p.tissue_scopes().size(); ++q)
     EXPECT_DOUBLE_EQ(s.causes[0].theta[q], p.tissue_scopes()[q] == "S4" ? (-2.0 - 1.0 + 1.0) / 3 : per_subject.at(p.tissue_scopes()[q]));
+  // Two instruments (a column naming them; here the site stands in): the instrument cause gets a
+  // set per instrument, the tissue cause keeps its set per subject.
+  SpectraModel two = m;
+  two.instrument_column = "site";
+  SpectraProblem pi(base.data, two);
+  ASSERT_EQ(pi.instrument_scopes().size(), 2u);
+  EXPECT_EQ(pi.params_per_scope(blur), 1);
+  EXPECT_EQ(pi.candidates()[blur].params.size(), 2u);
+  EXPECT_EQ(pi.candidates()[blur].params[1].name, "fwhm_nm@" + pi.instrument_scopes()[1]);
+  EXPECT_EQ(pi.candidates()[shift].params.size(), 4u);
 }

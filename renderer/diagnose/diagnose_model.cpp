@@ -87,7 +87,8 @@ void warn_if_grid_misses_the_edge(const JsonNode& r, const SpectraModel& s) {
 void parse_spectra(const JsonNode& r, DiagnoseModelFile& m) {
   r.check_keys({"format", "kind", "description", "select", "file_column", "groups", "replicates", "report_by", "selection",
                 "fit_range_nm", "grid_step_nm", "instrument_fwhm_nm", "fluorophores", "lights", "excitation_filter",
-                "emission_filter", "leak", "candidates", "plausible", "layered_tissue", "shared_concentrations", "tissue_per"});
+                "emission_filter", "leak", "candidates", "plausible", "layered_tissue", "shared_concentrations", "tissue_per",
+                "instrument_column"});
   SpectraModel& s = m.spectra;
   s.base_dir = std::filesystem::path(m.file).parent_path();
   m.file_column = r.string_or("file_column", "csv");
@@ -156,6 +157,7 @@ void parse_spectra(const JsonNode& r, DiagnoseModelFile& m) {
   if (auto l = r.find("layered_tissue")) s.layered = parse_layered_cause(*l);
   if (auto sc = r.find("shared_concentrations")) s.shared_by = strings(*sc);
   if (auto tp = r.find("tissue_per")) s.tissue_per = strings(*tp);
+  s.instrument_column = r.string_or("instrument_column", "");
   if (auto pl = r.find("plausible")) {
     // {"stray_light": {"fraction": [0, 0.02]}, "extra_fluorophore:teeth": {"mean_fraction": [0.005, 0.05]}}
     for (auto& cand : pl->keys()) {

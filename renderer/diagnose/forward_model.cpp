@@ -307,7 +307,7 @@ SpectraProblem::SpectraProblem(SpectraSet data, SpectraModel model) : data_(std:
   }
 
   add_layered_candidate();
-  replicate_tissue_params();
+  replicate_scoped_params();
   for (auto& c : model_.shared_by) {
     bool any = false;
     for (auto& sp : data_.spectra) any = any || (sp.conditions.count(c) && !sp.conditions.at(c).empty());
@@ -348,7 +348,10 @@ SpectraProblem::SpectraProblem(SpectraSet data, SpectraModel model) : data_(std:
     it.mean = m;
     it.y = Eigen::Map<Eigen::VectorXd>(y.data(), static_cast<Eigen::Index>(y.size())) / m;
     it.noise = high_frequency_noise(it.y);
-    it.scope = static_cast<int>(std::find(scopes_.begin(), scopes_.end(), scope_key(s)) - scopes_.begin());
+    for (int kind : {kTissueScope, kInstrumentScope}) {
+      const auto& values = scopes_[kind].values;
+      it.scope[kind] = static_cast<int>(std::find(values.begin(), values.end(), scope_key(s, kind)) - values.begin());
+    }
     for (double nm : it.nm) {
       double x = (nm - grid_.min_nm) / grid_.step_nm;
       int a = std::clamp(static_cast<int>(std::floor(x)), 0, N - 2);
@@ -411,86 +414,99 @@ void SpectraProblem::add_layered_candidate() {
   candidates_.push_back(std::move(one[0]));
 }
 
-std::string SpectraProblem::scope_key(const MeasuredSpectrum& s) const {
+std::string SpectraProblem::scope_key(const MeasuredSpectrum& s, int kind) const {
   std::string k;
-  for (auto& c : model_.tissue_per) {
+  for (auto& c : scopes_[kind].columns) {
     auto it = s.conditions.find(c);
     k += (k.empty() ? "" : "/") + (it == s.conditions.end() ? std::string() : it->second);
   }
   return k;
 }
 
-void SpectraProblem::replicate_tissue_params() {
+void SpectraProblem::replicate_scoped_params() {
   scope_params_.assign(candidates_.size(), 0);
-  if (model_.tissue_per.empty()) return;
-  for (auto& c : model_.tissue_per) {
-    bool any = false;
-    for (auto& sp : data_.spectra) any = any || sp.conditions.count(c) > 0;
-    if (!any && !data_.spectra.empty()) throw InputError("model", "/tissue_per", "column \"" + c + "\" is not in " + data_.index_file);
+  scope_kind_.assign(candidates_.size(), 0);
+  scopes_[kTissueScope].columns = model_.tissue_per;
+  if (!model_.instrument_column.empty()) scopes_[kInstrumentScope].columns = {model_.instrument_column};
+  const char* field[2] = {"/tissue_per", "/instrument_column"};
+  for (int kind : {kTissueScope, kInstrumentScope}) {
+    Scopes& sc = scopes_[kind];
+    if (sc.columns.empty()) continue;
+    for (auto& c : sc.columns) {
+      bool any = false;
+      for (auto& sp : data_.spectra) any = any || sp.conditions.count(c) > 0;
+      if (!any && !data_.spectra.empty()) throw InputError("model", field[kind], "column \"" + c + "\" is not in " + data_.index_file);
+    }
+    sc.values.clear();
+    for (auto& sp : data_.spectra)
+      if (std::find(sc.values.begin(), sc.values.end(), scope_key(sp, kind)) == sc.values.end()) sc.values.push_back(scope_key(sp, kind));
+    if (sc.values.empty()) sc.values = {""};
   }
-  scopes_.clear();
-  for (auto& sp : data_.spectra)
-    if (std::find(scopes_.begin(), scopes_.end(), scope_key(sp)) == scopes_.end()) scopes_.push_back(scope_key(sp));
-  if (scopes_.empty()) scopes_ = {""};
-  // Tissue causes with global parameters get one copy per scope ("oxy_uM_cm@B"); the layered
-  // cause already has one set per site and stays as it is; instrument causes stay one set.
+  // Tissue causes with global parameters get one copy per tissue ("oxy_uM_cm@B"), instrument
+  // causes one per instrument when the model names an instrument column; the layered cause already
+  // has one set per site and stays as it is.
   for (size_t k = 0; k < candidates_.size(); ++k) {
     CandidateSpec& c = candidates_[k];
-    if (c.instrument || c.params.empty() || spectra_cause(c) == SpectraCause::kLayered) continue;
+    const int kind = c.instrument ? kInstrumentScope : kTissueScope;
+    if (scopes_[kind].columns.empty() || c.params.empty() || spectra_cause(c) == SpectraCause::kLayered) continue;
+    const std::vector<std::string>& values = scopes_[kind].values;
     const std::vector<ParamSpec> base = c.params;
     const auto base_plausible = c.plausible;
     c.params.clear();
     c.plausible.clear();
-    for (size_t s = 0; s < scopes_.size(); ++s) {
+    for (size_t v = 0; v < values.size(); ++v)
       for (size_t j = 0; j < base.size(); ++j) {
         ParamSpec ps = base[j];
-        ps.name += "@" + scopes_[s];
-        if (s > 0) ps.tie_start = static_cast<int>(j);
+        ps.name += "@" + values[v];
+        if (v > 0) ps.tie_start = static_cast<int>(j);
         c.params.push_back(ps);
       }
-    }
     for (auto& q : base_plausible) {
       bool is_param = false;
       for (auto& ps : base) is_param = is_param || ps.name == q.quantity;
       if (!is_param) { c.plausible.push_back(q); continue; }
-      for (auto& sc : scopes_) {
+      for (auto& v : values) {
         auto r = q;
-        r.quantity += "@" + sc;
+        r.quantity += "@" + v;
         c.plausible.push_back(r);
       }
     }
     scope_params_[k] = static_cast<int>(base.size());
+    scope_kind_[k] = kind;
   }
 }
 
 void SpectraProblem::fill_unfitted(ModelState& state, const std::vector<int>& fitted_items) const {
-  if (scopes_.size() < 2) return;
-  std::vector<char> seen(scopes_.size(), 0);
-  for (int i : fitted_items) seen[items_[i].scope] = 1;
+  std::vector<char> seen[2];
+  for (int kind : {kTissueScope, kInstrumentScope}) {
+    seen[kind].assign(scopes_[kind].values.size(), 0);
+    for (int i : fitted_items) seen[kind][items_[i].scope[kind]] = 1;
+  }
   for (auto& a : state.causes) {
     const int P = scope_params_[a.candidate];
     if (P == 0) continue;
+    const std::vector<char>& fitted = seen[scope_kind_[a.candidate]];
     for (int j = 0; j < P; ++j) {
       double m = 0;
       int n = 0;
-      for (size_t s = 0; s < scopes_.size(); ++s)
-        if (seen[s]) { m += a.theta[s * P + j]; ++n; }
+      for (size_t v = 0; v < fitted.size(); ++v)
+        if (fitted[v]) { m += a.theta[v * P + j]; ++n; }
       if (n == 0) continue;
-      for (size_t s = 0; s < scopes_.size(); ++s)
-        if (!seen[s]) a.theta[s * P + j] = m / n;
+      for (size_t v = 0; v < fitted.size(); ++v)
+        if (!fitted[v]) a.theta[v * P + j] = m / n;
     }
   }
 }
 
-SpectraProblem::Effects SpectraProblem::decode(const ModelState& s, int scope) const {
+SpectraProblem::Effects SpectraProblem::decode(const ModelState& s, const std::array<int, 2>& scope) const {
   Effects fx;
   for (auto& cause : s.causes) {
     const CandidateSpec& c = candidates_[cause.candidate];
-    // The scope's own copy of a per-tissue cause's parameters.
+    // The item's own copy of a per-tissue or per-instrument cause's parameters.
     ActiveCause a{cause.candidate, {}};
-    const int P = scope_params_[cause.candidate];
+    const int P = scope_params_[cause.candidate], v = scope[scope_kind_[cause.candidate]];
     if (P > 0)
-      a.theta.assign(cause.theta.begin() + scope * P, cause.theta.begin() + (scope + 1) * P);
+      a.theta.assign(cause.theta.begin() + v * P, cause.theta.begin() + (v + 1) * P);
     else
       a.theta = cause.theta;
     switch (spectra_cause(c)) {
@@ -754,8 +770,8 @@ std::string SpectraProblem::visit_of(int i) const {
 }
 
 std::vector<ItemFit> SpectraProblem::evaluate(const ModelState& state, const std::vector<int>& items) const {
-  std::map<int, Effects> fx_of;  // per scope (one unless the model has tissue_per)
-  std::map<std::tuple<int, int, int>, std::vector<std::vector<double>>> cache;
+  std::map<std::array<int, 2>, Effects> fx_of;  // per tissue and instrument (one unless the model has either)
+  std::map<std::tuple<int, int, std::array<int, 2>>, std::vector<std::vector<double>>> cache;
   std::vector<std::string> names;
   std::vector<Eigen::MatrixXd> A(items.size());
   for (size_t q = 0; q < items.size(); ++q) {
@@ -763,7 +779,7 @@ std::vector<ItemFit> SpectraProblem::evaluate(const ModelState& state, const std
     auto f = fx_of.find(it.scope);
     if (f == fx_of.end()) f = fx_of.emplace(it.scope, decode(state, it.scope)).first;
     const Effects& fx = f->second;
-    const std::tuple<int, int, int> key(it.light, fx.layered.empty() ? -1 : it.site, it.scope);
+    const std::tuple<int, int, std::array<int, 2>> key(it.light, fx.layered.empty() ? -1 : it.site, it.scope);
     auto c = cache.find(key);
     if (c == cache.end()) {
       std::vector<std::string> nm;
@@ -900,16 +916,17 @@ std::vector<DerivedParam> SpectraProblem::derived_params(const CandidateSpec& c,
 
 std::string SpectraProblem::plain_words(const CandidateSpec& c, const std::vector<double>& th,
                                         const std::vector<double>& u, const std::vector<DerivedParam>& d) const {
-  int P = 0;
+  int P = 0, kind = 0;
   for (size_t k = 0; k < candidates_.size(); ++k)
-    if (candidates_[k].id == c.id) P = scope_params_[k];
-  if (P == 0 || th.size() != scopes_.size() * P) return plain_words_one(c, th, u, d);
-  // One set per tissue: each in words, named by its value.
+    if (candidates_[k].id == c.id) { P = scope_params_[k]; kind = scope_kind_[k]; }
+  const std::vector<std::string>& values = scopes_[kind].values;
+  if (P == 0 || th.size() != values.size() * P) return plain_words_one(c, th, u, d);
+  // One set per tissue or instrument: each in words, named by its value.
   std::string s;
-  for (size_t q = 0; q < scopes_.size(); ++q) {
+  for (size_t q = 0; q < values.size(); ++q) {
     std::vector<double> t(th.begin() + q * P, th.begin() + (q + 1) * P), v(P, 0.0);
     if (u.size() == th.size()) v.assign(u.begin() + q * P, u.begin() + (q + 1) * P);
-    s += (q ? " " : "") + std::string("[") + scopes_[q] + "] " + plain_words_one(c, t, v, d);
+    s += (q ? " " : "") + std::string("[") + values[q] + "] " + plain_words_one(c, t, v, d);
   }
   return s;
 }

@@ -59,6 +59,9 @@ struct SpectraModel {
   // for all spectra. A value the fitted spectra do not have (a held-out subject) gets the mean of
   // the fitted values. Empty (the default): every cause one set for all.
   std::vector<std::string> tissue_per;
+  // A column naming the instrument each spectrum was measured with: instrument causes then get one
+  // set per instrument. Empty (the default): one instrument.
+  std::string instrument_column;
   std::filesystem::path base_dir;    // for fluorophore files named relative to the model
 };
 
@@ -84,10 +87,12 @@ class SpectraProblem : public DiagnoseProblem {
                           const std::vector<DerivedParam>& derived) const override;
   void fill_unfitted(ModelState& state, const std::vector<int>& fitted_items) const override;
 
-  // Per-tissue parameters (model "tissue_per"): the values of the tissue_per columns ("" when the
-  // model has none), item i's, and the parameters per value of candidate c (0: one set for all).
-  const std::vector<std::string>& tissue_scopes() const { return scopes_; }
-  int scope_of(int i) const { return items_[i].scope; }
+  // Per-tissue and per-instrument parameters (model "tissue_per", "instrument_column"): the values
+  // of those columns ("" when the model has none), item i's tissue, and the parameters per value
+  // of candidate c (0: one set for all).
+  const std::vector<std::string>& tissue_scopes() const { return scopes_[kTissueScope].values; }
+  const std::vector<std::string>& instrument_scopes() const { return scopes_[kInstrumentScope].values; }
+  int scope_of(int i) const { return items_[i].scope[kTissueScope]; }
   int params_per_scope(int c) const { return scope_params_[c]; }
 
   // The columns of item i under `state` (before the NNLS), in measured units divided by the
@@ -125,7 +130,7 @@ class SpectraProblem : public DiagnoseProblem {
   struct Item {
     int light = -1;
     int site = -1;           // index into sites_ (layered_tissue), -1 when its site has no stack
-    int scope = 0;           // index into scopes_ (tissue_per)
+    std::array<int, 2> scope = {0, 0};  // index into scopes_[kTissueScope] and scopes_[kInstrumentScope]
     std::vector<double> nm;  // fit wavelengths
     Eigen::VectorXd y;       // measured / mean over the fit range
     double mean = 1;
@@ -140,9 +145,9 @@ class SpectraProblem : public DiagnoseProblem {
     std::vector<double> leak;     // measured leak on the grid (empty if none)
   };
   struct Effects;
-  Effects decode(const ModelState& s, int scope) const;
-  void replicate_tissue_params();
-  std::string scope_key(const MeasuredSpectrum& s) const;
+  Effects decode(const ModelState& s, const std::array<int, 2>& scope) const;
+  void replicate_scoped_params();
+  std::string scope_key(const MeasuredSpectrum& s, int kind) const;
   std::string plain_words_one(const CandidateSpec& c, const std::vector<double>& theta, const std::vector<double>& unc,
                               const std::vector<DerivedParam>& derived) const;
   std::vector<std::vector<double>> grid_columns(int light, int site, const Effects& fx, std::vector<std::string>* names) const;
@@ -169,8 +174,16 @@ class SpectraProblem : public DiagnoseProblem {
   std::vector<CandidateSpec> candidates_;
   std::vector<std::shared_ptr<const LayeredSite>> sites_;
   std::vector<int> fit_grid_;  // grid indices inside the fit range
-  std::vector<std::string> scopes_ = {""};  // values of the tissue_per columns
-  std::vector<int> scope_params_;           // per candidate: parameters per scope (0: one set)
+  // One set of parameters per value of some columns: tissue causes per "tissue_per", instrument
+  // causes per "instrument_column" (no columns: one set, value "").
+  struct Scopes {
+    std::vector<std::string> columns;
+    std::vector<std::string> values = {""};
+  };
+  enum { kTissueScope = 0, kInstrumentScope = 1 };
+  std::array<Scopes, 2> scopes_;
+  std::vector<int> scope_params_;  // per candidate: parameters per scope value (0: one set)
+  std::vector<int> scope_kind_;    // per candidate: which scopes its copies follow
   SpectraRange range_;         // wavelengths fitted (fit range within the data)
 };
 
