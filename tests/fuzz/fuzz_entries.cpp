@@ -1,4 +1,5 @@
 #include "tests/fuzz/fuzz_entries.h"
+#include "tests/fuzz/diagnose_selection.h"
 
 #include <unistd.h>
 
@@ -111,6 +112,9 @@ const std::vector<Entry>& entries() {
        {"tests/fuzz/seeds/small_radiance.exr", "tests/data/bad_inputs/exr_huge_string.exr"}},
       {"image_png", ".png", [](const uint8_t* d, size_t n) { read_image_file(as_file(d, n, ".png")); },
        {"tests/data/bad_inputs/png_huge_header.png", "assets/textures/tongue_lesion.png"}},
+      {"diagnose_selection", ".bin", [](const uint8_t* d, size_t n) { run_diagnose_selection(d, n); },
+       {"tests/fuzz/seeds/diagnose_selection_spectra.bin", "tests/fuzz/seeds/diagnose_selection_edge.bin",
+        "tests/fuzz/seeds/diagnose_selection_set_aside.bin", "tests/fuzz/seeds/diagnose_selection_camera.bin"}},
   };
   return e;
 }
