@@ -5,6 +5,7 @@
 #include <OpenImageIO/imageio.h>
 
 #include <filesystem>
+#include <string>
 #include <vector>
 
 namespace ofl {
@@ -12,6 +13,8 @@ namespace ofl {
 // Writes interleaved pixels of `spec.format` with `spec.nchannels` per pixel (the format follows
 // the file's extension). `spec` carries any metadata attributes.
 void write_image_file(const std::filesystem::path& file, const OIIO::ImageSpec& spec, const void* pixels);
+// The bytes write_image_file would write to `file` (format from its extension), in memory.
+std::string encode_image_file(const std::filesystem::path& file, const OIIO::ImageSpec& spec, const void* pixels);
 
 // A whole image as interleaved floats.
 struct FloatImage {
