@@ -50,18 +50,12 @@ void check_image_spec(const std::filesystem::path& file, const OIIO::ImageSpec& 
                    std::to_string(spec.nchannels) + " channels");
 }
 
-namespace {
-
-// What OpenImageIO (and the library under it) said, as one line: its lines joined by "; ", with
-// libpng's own stderr lines when it printed any that OIIO did not repeat.
 std::string library_error(std::string oiio, const std::vector<std::string>& library) {
   for (size_t at; (at = oiio.find('\n')) != std::string::npos;) oiio.replace(at, 1, "; ");
   for (const auto& l : library)
     if (oiio.find(l.substr(l.find(':') == std::string::npos ? 0 : l.find(':') + 2)) == std::string::npos) oiio += "; " + l;
   return printable(oiio, 200);
 }
-
-}  // namespace
 
 FloatImage read_image_file(const std::filesystem::path& file) {
   std::error_code ec;
