@@ -180,21 +180,31 @@ TissueLayer parse_layer(const JsonNode& n, bool last, MaterialContext& ctx) {
 
 // Merges `patch` into `target` (RFC 7386 style: objects merge, everything else replaces), except
 // that a name-keyed object given where the target holds a list of named entries merges into those
-// entries by name (and appends new names).
-void merge_named(nlohmann::json& target, const nlohmann::json& patch, const JsonNode& where) {
+// entries by name. `where` is the user's node for `patch`. A new name adds an entry (a fluorophore
+// the preset's layer lacks), except among the preset's "layers": a name the preset does not have
+// there is a misspelling, not a new bottom layer, and is refused naming the layer and the
+// preset's own layers.
+void merge_named(nlohmann::json& target, const nlohmann::json& patch, const JsonNode& where, const std::string& preset,
+                 const std::string& key = "") {
   if (target.is_array() && patch.is_object()) {
     for (auto it = patch.begin(); it != patch.end(); ++it) {
       nlohmann::json* hit = nullptr;
       for (auto& e : target)
         if (e.is_object() && e.value("name", "") == it.key()) hit = &e;
       if (hit) {
-        merge_named(*hit, it.value(), where);
-      } else {
-        nlohmann::json e = it.value();
-        if (!e.is_object()) where.fail("\"" + it.key() + "\" is not in the preset; a new entry needs an object");
-        e["name"] = it.key();
-        target.push_back(e);
+        merge_named(*hit, it.value(), where.at(it.key()), preset);
+        continue;
       }
+      if (key == "layers") {
+        std::string names;
+        for (auto& e : target) names += (names.empty() ? "\"" : ", \"") + (e.is_object() ? e.value("name", "?") : "?") + "\"";
+        where.at(it.key()).fail("preset \"" + preset + "\" has no layer \"" + it.key() + "\" (its layers: " + names +
+                                "); an override can only change the preset's layers (give \"layers\" as a list for a stack of your own)");
+      }
+      nlohmann::json e = it.value();
+      if (!e.is_object()) where.at(it.key()).fail("\"" + it.key() + "\" is not in the preset; a new entry needs an object");
+      e["name"] = it.key();
+      target.push_back(e);
     }
     return;
   }
@@ -204,7 +214,7 @@ void merge_named(nlohmann::json& target, const nlohmann::json& patch, const Json
   }
   for (auto it = patch.begin(); it != patch.end(); ++it) {
     if (it.value().is_null()) target.erase(it.key());
-    else if (target.contains(it.key())) merge_named(target[it.key()], it.value(), where);
+    else if (target.contains(it.key())) merge_named(target[it.key()], it.value(), where.at(it.key()), preset, it.key());
     else target[it.key()] = it.value();
   }
 }
@@ -253,7 +263,7 @@ nlohmann::json merged_document(const JsonNode& n) {
   user.erase("preset");
   // The user's own relative file names are relative to the user's file.
   absolutise_files(user, std::filesystem::path(n.file()).parent_path());
-  merge_named(mat, user, n);
+  merge_named(mat, user, n, n.at("preset").string());
   return mat;
 }
 

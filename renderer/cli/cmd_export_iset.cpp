@@ -52,8 +52,8 @@ void register_export_iset_command(CLI::App& app) {
   cmd->add_option("--camera", o->camera, "write the optical image this camera's lens, filters and optics stage form (ISETCam oi)");
   cmd->add_option("--name", o->name, "scene name (default: the EXR's file stem)");
   cmd->add_option("--distance", o->distance, "scene distance in metres (default: median depth of the render's aov.depth)")
-      ->check(CLI::PositiveNumber);
-  cmd->add_option("--hfov", o->hfov, "horizontal field of view in degrees (default: from oralfluor.vfov_deg)")->check(CLI::Range(1e-6, 179.9));
+      ->check(finite_positive());
+  cmd->add_option("--hfov", o->hfov, "horizontal field of view in degrees (default: from oralfluor.vfov_deg)")->check(finite_range(1e-6, 179.9));
   cmd->add_flag("--json", o->json, "print a JSON summary");
   cmd->callback([o] {
     SpectralImage img = read_spectral_exr(o->exr);

@@ -691,6 +691,7 @@ Diagnosis diagnose(const DiagnoseProblem& p, const SelectionOptions& o) {
   std::vector<CandidateTrial> solo;
   const int C = static_cast<int>(p.candidates().size());
   for (int step = 1; step <= o.max_causes; ++step) {
+    throw_if_interrupted("diagnosing (looking for causes); no report was written");
     std::vector<int> todo;
     for (int c = 0; c < C; ++c)
       if (!full.state.has(c) && requirement_met(p, full.state, c)) todo.push_back(c);
@@ -704,7 +705,7 @@ Diagnosis diagnose(const DiagnoseProblem& p, const SelectionOptions& o) {
     std::atomic<int64_t> tried{0};
     std::atomic<bool> stop{false};  // SelectionOptions::progress said stop
     auto run_one = [&](size_t k) {
-      if (stop) return;
+      if (stop || interrupt_requested()) return;  // the step ends at the check after the candidates
       std::vector<ModelState> st;
       for (int g = 0; g < G; ++g) st.push_back(with_cause(p, current.fold_states[g], todo[k]));
       runs[k] = cross_validate(p, st, static_cast<int>(st[0].causes.size()) - 1, dg.folds, false);
@@ -716,6 +717,7 @@ Diagnosis diagnose(const DiagnoseProblem& p, const SelectionOptions& o) {
     else
       for (size_t k = 0; k < todo.size(); ++k) run_one(k);
     if (stop) throw Interrupted("diagnose stopped by its progress callback");
+    throw_if_interrupted("diagnosing (looking for causes); no report was written");
     std::vector<CandidateTrial> trials;
     for (size_t k = 0; k < todo.size(); ++k) trials.push_back(judge(p, todo[k], current, std::move(runs[k]), dg.folds, floor, o));
     if (step == 1) solo = trials;

@@ -6,6 +6,7 @@
 
 #include "renderer/core/error.h"
 #include "renderer/core/atomic_file.h"
+#include "renderer/core/progress.h"
 #include "renderer/diagnose/camera_model.h"
 #include "renderer/diagnose/cross_subject.h"
 #include "renderer/diagnose/unknown_band.h"
@@ -106,6 +107,7 @@ FitAndPredict split_fit_and_predict(SpectraSet all, const DiagnoseJob& job) {
 
 DiagnoseOutcome run_diagnose_job(const DiagnoseJob& job) {
   DiagnoseModelFile m = load_diagnose_model(job.model);
+  throw_if_interrupted("loading the model; no report was written");
   InputKind kind = detect_input_kind(job.input);
   if (kind != m.kind)
     throw InputError(job.model, "/kind",

@@ -72,6 +72,7 @@ void run_job(const StackTables& st, const MaterialTables& mt, int n, const Depth
   const StackWalker walker = StackWalker(st, mt, n, WalkMode::kImportance).with_similarity_after(opt.similarity_after);
   const uint64_t job = uint64_t(node) * 4096 + uint64_t(group);
   for (int p = 0; p < opt.photons; ++p) {
+    if ((p & 1023) == 0 && interrupt_requested()) return;  // the table is dropped (fill_stack_response)
     Rng rng(opt.seed, Rng::stream_for(job, uint64_t(p)));
     const double mu = launch_cosine(r, node, rng);
     launch_group(st, walker, first_wl, count, rng, downward(mu), visitor, [&](const WalkResult& res, const WalkLanes& lanes) {
@@ -264,10 +265,12 @@ std::shared_ptr<StackResponse> fill_stack_response(const StackTables& st, const 
   sums.exits.assign(size_t(N) * N * n, 0.0);
   ProgressBar progress("layered table" + (opt.label.empty() ? std::string() : " " + opt.label), int64_t(N) * groups);
   tbb::parallel_for(0, N * groups, [&](int job) {
+    if (interrupt_requested()) return;  // Ctrl-C: the jobs left are skipped and the table dropped
     run_job(st, mt, n, bins, opt, *r, job / groups, job % groups, sums);
     progress.advance();
   });
   progress.finish();
+  throw_if_interrupted("filling a layered tissue's table (nothing of it was kept)");
   r->walks = (long long)N * groups * opt.photons;
   fill_elastic(sums, opt, *r);
   fill_fluorescence(st, bins, sums, *r);
