@@ -117,7 +117,16 @@ TEST(LayeredSpatial, FluorescenceProfileMatchesForwardPhotons) {
 TEST(LayeredSpatial, LesionDiscMatchesThreeDimensionalMonteCarlo) {
   for (const char* name : {"spatial_lesion_dysplasia_1mm", "spatial_lesion_dysplasia_1mm_fluorescence"}) {
     const CheckCaseResult r = run_check_case(name, test::kSanitized ? 200000 : 800000, 1);
-    expect_pass(r);
+    // 36 ring-band checks at 3 standard errors (2 % where larger): with both estimates right one
+    // of them misses by chance in about one run of ten, so the test allows two misses of the 36
+    // (p < 0.001 with all right) and none beyond 4 standard errors.
+    int misses = 0;
+    for (const auto& c : r.checks) {
+      misses += !c.pass();
+      EXPECT_LE(std::abs(c.value - c.reference), 4.0 / 3.0 * c.tolerance)
+          << r.name << ": " << c.quantity << ": " << c.value << " against " << c.reference << " +- " << c.tolerance;
+    }
+    EXPECT_LE(misses, 2) << name;
     // The test can tell: the position-free profile misses the Monte Carlo's by far more somewhere.
     double worst = 0;
     const auto& pf = r.extra["position_free"]["contrast"];

@@ -455,10 +455,8 @@ CheckCaseResult spatial_lesion_disc(const std::string& inside, double a_mm, bool
       char q[160];
       std::snprintf(q, sizeof q, "%s %g-%g nm, ring %.3f-%.3f mm (position-free %.3f)", fluorescence ? "fluorescence" : "reflectance",
                     bands[i].first, bands[i].second, edges[k], edges[k + 1], pf.c[i][k]);
-      // 4 combined standard errors, not 3: a case has 36 ring-band checks, and at 3 sigma one of
-      // them would miss by chance in about one run of ten even when both estimates are right.
       const double ref = mc.c[i][k], se = std::hypot(mc.se[i][k], sp.se[i][k]);
-      r.checks.push_back({q, sp.c[i][k], ref, mc_tolerance(0.02, ref, 4.0 / 3.0 * se)});
+      r.checks.push_back({q, sp.c[i][k], ref, mc_tolerance(0.02, ref, se)});
     }
   r.extra["ring_edges_mm"] = edges;
   r.extra["forward_mc"] = {{"contrast", mc.c}, {"se", mc.se}, {"all_directions", all}};
