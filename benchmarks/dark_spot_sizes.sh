@@ -3,23 +3,24 @@
 # spot of the same size? Renders scenes/dark_spot_spatial_{385,405,450}.json with the dysplastic
 # lesion and the blood spot as discs of 1, 2, 3, 5 and 10 mm diameter, with light travelling
 # sideways in the tissue ("spatial") and without ("table", position-free), passes each through
-# scenes/cameras/oraleye.json and measures each region with `oralfluor chroma --roi-material`:
-# intensity against the healthy tongue, (r, g) chromaticity, and the lesion-vs-blood-spot distance in
-# units of the healthy tongue's spread and of the two means' standard errors. Also the fluorescence
+# scenes/cameras/oraleye.json (with its noise) and measures (r, g) per 2x2 Bayer cell over the
+# lesion, the blood spot and a ring of healthy tongue 1-6 mm around each (dark_spot_sizes.py, masks
+# from the render's AOVs): intensity against the healthy ring, and the lesion-vs-blood-spot distance
+# in units of the healthy tongue's spread and of the two means' standard errors. Also the fluorescence
 # profile across the lesion's edge (image row through its centre) for both transports.
 # Usage: benchmarks/dark_spot_sizes.sh [build-dir] [out-dir] [width height spp]
 # Writes <out>/sizes.md (the tables of docs/layered-tissue.md "Lesion size") and <out>/*.png.
 set -euo pipefail
 build=${1:-build}
 out=${2:-out/dark_spot_sizes}
-w=${3:-480}; h=${4:-360}; spp=${5:-16}
+w=${3:-480}; h=${4:-360}; spp=${5:-32}
 root=$(cd "$(dirname "$0")/.." && pwd)
 mkdir -p "$out"
 for nm in 385 405 450; do
   for transport in spatial table; do
     for d in 1 2 3 5 10; do
       dir="$out/$nm/$transport/d$d"
-      if [ ! -f "$dir/cam/raw.tiff" ]; then
+      if [ ! -f "$dir/radiance.exr" ]; then
         mkdir -p "$dir"
         /usr/bin/python3 - "$root/scenes/dark_spot_spatial_$nm.json" "$dir/scene.json" "$transport" "$d" <<'PY'
 import json, os, sys
@@ -42,11 +43,7 @@ for r in j["materials"]["tongue"]["regions"]:
 json.dump(j, open(dst, "w"), indent=1)
 PY
         "$build/oralfluor" render "$dir/scene.json" -o "$dir" --width "$w" --height "$h" --spp "$spp" > "$dir/render.log" 2>&1
-        "$build/oralfluor" camera "$dir/radiance.exr" --camera "$root/scenes/cameras/oraleye.json" -o "$dir/cam" > /dev/null
       fi
-      for m in tongue_healthy dysplasia blood_spot; do
-        "$build/oralfluor" chroma "$dir/cam/raw.tiff" --roi-material "$m" --name "chroma_$m" --json > "$dir/chroma_$m.json" 2>/dev/null || true
-      done
     done
   done
 done
