@@ -1,4 +1,4 @@
-// Closing the loop of `oralfluor diagnose` (issue 6, item 6): the diagnosis' accepted tissue
+// Closing the loop of `oralfluor diagnose`: the diagnosis' accepted tissue
 // causes become tissue material options, a flat patch of the material is rendered under each
 // measured spectrum's LED spectrum, and the rendered radiance, through the diagnosis' instrument
 // model, is compared with the measured spectrum. Held out like the diagnosis: for each

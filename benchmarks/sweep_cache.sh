@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Camera-only sweeps render once (issue 13 item 4): scenes/sweeps/filter_edge.json (20 levels of the
+# Camera-only sweeps render once: scenes/sweeps/filter_edge.json (20 levels of the
 # emission long-pass edge, 450-500 nm, on the demo scene) run with the render cache and again with
 # --no-render-cache. Prints the wall time of both runs, how many renders each made, and whether
 # every point's metrics agree bit for bit.

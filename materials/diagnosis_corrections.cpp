@@ -1,9 +1,9 @@
-#include "renderer/diagnose/material_from_diagnosis.h"
+#include "materials/diagnosis_corrections.h"
 
 #include <cmath>
 
 #include "renderer/core/error.h"
-#include "renderer/diagnose/model_extensions.h"
+#include "renderer/spectral/sample_shapes.h"
 
 namespace ofl {
 

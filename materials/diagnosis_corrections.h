@@ -1,4 +1,4 @@
-// Closing the loop (issue 6, item 6): turn the causes a diagnosis accepted into parameters a
+// Closing the loop: turn the causes a diagnosis accepted into parameters a
 // tissue material can use. Only tissue causes become material parameters: blood absorption (a
 // Beer-Lambert layer of oxy/deoxy hemoglobin), extra fluorophores (with their mean share of the
 // signal) and emission broadening. Instrument causes (wavelength shift, bandwidth, stray light,

@@ -37,7 +37,6 @@ class DielectricInterface {
   double alpha() const { return alpha_; }
   double n_above() const { return n_above_; }
   double n_below() const { return n_below_; }
-  const GgxCoating& ggx() const { return ggx_; }
 
   // The path travelling along `d` hits the interface; reflects or refracts by Fresnel (u0, and
   // further random numbers from `rng_next` when a rough sample must be drawn again).

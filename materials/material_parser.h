@@ -3,7 +3,9 @@
 //   fluorescent.cpp  {"type": "fluorescent", "reflectance": ..., "fluorophores": [{"name": "FAD",
 //                     "concentration": 0.02, "texture": "map.png"}, {"eem": "my.csv", ...}]}
 //   coated.cpp       {"type": "coated", "base": <lambertian|fluorescent>, "ior": 1.33, "roughness": 0.15}
-//   tissue.cpp, teeth.cpp: oral presets built from shipped measurements (see their headers)
+//   tissue.cpp       {"type": "tissue" | "teeth", "preset": ...}: oral presets built from shipped
+//                     measurements (see its header)
+//   regions.cpp      {"type": "regions", "base": ..., "regions": [...]}: other materials painted on one mesh
 //   layered_tissue.cpp  {"type": "layered_tissue", "layers": [...]}: scattering layers with volume
 //                     fluorescence under a wet coating (materials/layered.h)
 // A material whose photon albedo R(ex) + sum_k c_k integral Phi_k(em, ex) d em exceeds 1 at any
@@ -16,7 +18,7 @@
 
 #include "materials/material.h"
 #include "renderer/core/json_node.h"
-#include "renderer/scene/texture.h"
+#include "renderer/image/texture.h"
 #include "renderer/spectral/eem.h"
 
 namespace ofl {

@@ -34,7 +34,7 @@
 #include <set>
 
 #include "materials/material_parser.h"
-#include "renderer/diagnose/material_from_diagnosis.h"
+#include "materials/diagnosis_corrections.h"
 #include "renderer/spectral/hemoglobin.h"
 #include "renderer/core/asset_path.h"
 #include "renderer/core/error.h"

@@ -1,5 +1,5 @@
 // Synthetic spectroradiometer data made WITHOUT diagnose's forward model, for the tests and the
-// benchmark of issue 12 (tests/test_diagnose_independent.cpp, benchmarks/diagnose_independent.cpp).
+// benchmark (tests/test_diagnose_independent.cpp, benchmarks/diagnose_independent.cpp).
 // What differs from renderer/diagnose/synthetic.h (which reuses SpectraProblem) on purpose:
 // - wavelength handling: generated on a 0.5 nm grid, sampled every 3 nm from 381.5 nm (the model
 //   works on its own 2 nm grid);

@@ -1,4 +1,4 @@
-// Light outside the image's bands is never lost quietly (issue 13, item 1): the default bands are
+// Light outside the image's bands is never lost quietly: the default bands are
 // the whole grid, `render` and `camera` say how much LED light narrower bands drop (or `camera
 // --strict` refuses), and the excitation leak the camera reports through a long-pass filter of
 // optical density 6 .. 1 equals the closed-form integral of LED x reflectance x filter x QE.
@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "renderer/bench/bench_support.h"
+#include "renderer/bench/closed_form_cases.h"
 #include "renderer/camera/camera_pipeline.h"
 #include "renderer/camera/expected_signal.h"
 #include "renderer/camera/lens_optics.h"

@@ -1,4 +1,4 @@
-// Exposure control (issue 13, item 3): auto exposure puts the chosen percentile pixel at the target
+// Exposure control: auto exposure puts the chosen percentile pixel at the target
 // share of full well, bracketing writes one raw per exposure named by it with the signal scaling
 // as the exposure, and the DNG says the true f-number, focal length, exposure and capture time.
 #include <gtest/gtest.h>

@@ -1,4 +1,4 @@
-// The renderer against closed-form answers (DESIGN.md section 7): each case below 1 % mean
+// The renderer against closed-form answers (docs/transport.md, "How it is checked"): each case below 1 % mean
 // relative error at the stated samples per pixel, and a per-pixel error that falls like 1/sqrt(spp).
 #include <gtest/gtest.h>
 

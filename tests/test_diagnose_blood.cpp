@@ -4,7 +4,7 @@
 
 #include <cmath>
 
-#include "renderer/diagnose/material_from_diagnosis.h"
+#include "materials/diagnosis_corrections.h"
 #include "renderer/spectral/fluorophore_library.h"
 #include "renderer/spectral/hemoglobin.h"
 

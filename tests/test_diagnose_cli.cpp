@@ -12,7 +12,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "renderer/diagnose/material_from_diagnosis.h"
+#include "materials/diagnosis_corrections.h"
 
 namespace fs = std::filesystem;
 

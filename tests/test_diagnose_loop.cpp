@@ -1,4 +1,4 @@
-// Closing the loop (issue 6, item 6) on a case with a known answer: spectra are rendered from a
+// Closing the loop on a case with a known answer: spectra are rendered from a
 // tongue material under a known blood layer (flat patch, the shipped 405/415/450 nm LED spectra,
 // 475 nm long-pass, noise), `diagnose` must find the blood layer, the material rebuilt from its
 // report and rendered again must reproduce the data within the noise, and the baseline material
@@ -12,7 +12,7 @@
 
 #include "renderer/diagnose/cross_validation.h"
 #include "renderer/diagnose/diagnose_report.h"
-#include "renderer/diagnose/material_from_diagnosis.h"
+#include "materials/diagnosis_corrections.h"
 #include "renderer/diagnose/render_loop.h"
 #include "renderer/diagnose/synthetic.h"
 

@@ -1,5 +1,5 @@
 // Fluorescence: EEM input checks, the Stokes mask, the energy check of materials, the excitation
-// sampler (chi-square), the fluorophore library, and the closed-form cases of DESIGN.md section 7.
+// sampler (chi-square), the fluorophore library, and the closed-form cases of docs/transport.md.
 #include <gtest/gtest.h>
 
 #include <filesystem>

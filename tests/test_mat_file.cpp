@@ -13,8 +13,8 @@
 
 #include "renderer/camera/camera_description.h"
 #include "renderer/core/error.h"
-#include "renderer/interop/mat_file.h"
-#include "renderer/interop/mat_spectrum.h"
+#include "renderer/formats/mat_file.h"
+#include "renderer/formats/mat_spectrum.h"
 #include "renderer/spectral/spectrum.h"
 #include "renderer/spectral/spectrum_json.h"
 

@@ -1,4 +1,4 @@
-// Previews that show what matters under violet light (issue 13, item 6): next to the radiance
+// Previews that show what matters under violet light: next to the radiance
 // preview, `render` writes the fluorescence alone and, with --camera, the image through the camera.
 #include <gtest/gtest.h>
 

@@ -1,5 +1,5 @@
 // Render determinism across thread counts, and the spectral EXR layout read back with OpenEXR's
-// own API (channel names and header attributes exactly as in DESIGN.md section 5).
+// own API (channel names and header attributes exactly as docs/architecture.md, "Conventions", and renderer/image/spectral_exr.h give them).
 #include <gtest/gtest.h>
 
 #include <ImfChannelList.h>

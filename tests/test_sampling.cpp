@@ -1,4 +1,4 @@
-// Chi-square tests of the sampling routines against their densities (DESIGN.md section 7, item 6).
+// Chi-square tests of the sampling routines against their densities (docs/transport.md, "How it is checked").
 #include <gtest/gtest.h>
 
 #include <glm/geometric.hpp>

@@ -11,9 +11,9 @@
 #include "renderer/diagnose/diagnose_job.h"
 #include "renderer/interop/iset_oi.h"
 #include "renderer/interop/iset_scene.h"
-#include "renderer/interop/iset_sensor.h"
-#include "renderer/interop/mat_file.h"
-#include "renderer/interop/mat_spectrum.h"
+#include "renderer/formats/iset_sensor.h"
+#include "renderer/formats/mat_file.h"
+#include "renderer/formats/mat_spectrum.h"
 #include "renderer/spectral/spectrum.h"
 
 namespace ofl::python {

@@ -1,4 +1,4 @@
-// Accuracy benchmarks against closed-form answers (DESIGN.md section 7). Each case builds its
+// Accuracy benchmarks against closed-form answers (docs/transport.md, "How it is checked"). Each case builds its
 // scene in memory, renders it, and compares every pixel and band with the exact radiance.
 // Errors are reported per image region: the relative error of the region's mean radiance in each
 // band (bias plus the noise left after averaging the region), and the RMS per-pixel relative error
@@ -11,29 +11,10 @@
 
 #include <nlohmann/json.hpp>
 
+#include "renderer/bench/bench_result.h"
 #include "renderer/scene/scene.h"
 
 namespace ofl {
-
-struct BenchRegion {
-  std::string name;
-  double rel_error = 0;      // mean over bands of |mean(L) - mean(L_ref)| / mean(L_ref)
-  double max_band_error = 0; // worst band
-  int pixels = 0;
-};
-
-struct BenchResult {
-  std::string name;
-  int spp = 0;
-  double mean_rel_error = 0;     // mean over regions and bands
-  double max_rel_error = 0;      // worst region and band
-  double rms_pixel_rel_error = 0;
-  nlohmann::json extra = nlohmann::json::object();  // case-specific numbers
-  double seconds = 0;
-  double camera_samples_per_second = 0;
-  std::vector<BenchRegion> regions;
-  nlohmann::json to_json() const;
-};
 
 struct BenchCaseInfo {
   std::string name;
@@ -42,12 +23,6 @@ struct BenchCaseInfo {
 };
 
 std::vector<BenchCaseInfo> bench_cases();
-struct BenchOptions {
-  int spp = 64;
-  uint64_t seed = 1;
-  bool sampled_excitation = false;  // sample excitation wavelengths instead of summing them
-  std::string importance_camera;    // sample camera wavelengths by this camera's system QE (half)
-};
 
 // Runs one case; throws InputError for an unknown name.
 BenchResult run_bench_case(const std::string& name, const BenchOptions& options);

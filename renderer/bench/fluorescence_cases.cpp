@@ -1,4 +1,4 @@
-// Closed-form cases with fluorescence (DESIGN.md section 7, cases 2 and 3). Transport is in photon
+// Closed-form cases with fluorescence (docs/transport.md, "How it is checked"). Transport is in photon
 // units, so the references are computed in photons and converted to W at the end:
 //   patch:  L_q(em) = [R(em) E_q(em) + sum_ex Phi(em, ex) E_q(ex) dlambda] / pi
 //   sphere: L_q = (I - A)^-1 Le_q with A = diag(R) + Phi dlambda.
@@ -9,6 +9,7 @@
 #include <glm/geometric.hpp>
 
 #include "renderer/bench/bench_support.h"
+#include "renderer/bench/closed_form_cases.h"
 #include "renderer/spectral/units.h"
 
 namespace ofl {

@@ -1,4 +1,4 @@
-// Closed-form checks of the layered-tissue BSDF (DESIGN.md section 7, case 7), evaluated through the
+// Closed-form checks of the layered-tissue BSDF (docs/layered-tissue.md, "Validation"), evaluated through the
 // same call the path tracer makes at a layered vertex (layered_scatter):
 //   layered_fluorescent_escape  a non-scattering fluorescent layer under a collimated beam: the
 //     excitation decays as exp(-a z / mu_i), isotropic emission leaves through the top with
@@ -23,6 +23,7 @@
 
 #include "renderer/bench/bench_check.h"
 #include "renderer/bench/bench_support.h"
+#include "renderer/bench/closed_form_cases.h"
 #include "renderer/bench/mcml.h"
 #include "renderer/bench/spatial_cases.h"
 #include "renderer/core/error.h"

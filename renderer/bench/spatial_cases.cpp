@@ -12,6 +12,7 @@
 
 #include "renderer/bench/bench_check.h"
 #include "renderer/bench/bench_support.h"
+#include "renderer/bench/closed_form_cases.h"
 #include "renderer/bench/forward_mc.h"
 #include "renderer/bench/spatial_cases.h"
 #include "renderer/core/json_node.h"

@@ -6,8 +6,8 @@
 
 #include "renderer/core/csv.h"
 #include "renderer/core/error.h"
-#include "renderer/interop/iset_sensor.h"
-#include "renderer/interop/mat_file.h"
+#include "renderer/formats/iset_sensor.h"
+#include "renderer/formats/mat_file.h"
 #include "renderer/spectral/spectrum_json.h"
 
 namespace ofl {

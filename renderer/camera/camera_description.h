@@ -102,7 +102,7 @@ struct CameraDescription {
 };
 
 // Reads a camera.json file (relative data paths resolve against its folder), or an ISETCam sensor
-// .mat (renderer/interop/iset_sensor.h).
+// .mat (renderer/formats/iset_sensor.h).
 CameraDescription load_camera(const std::filesystem::path& file);
 // Parses a camera object (the root of a camera.json, or the "camera" member of a raw.json sidecar).
 CameraDescription parse_camera(const JsonNode& node);

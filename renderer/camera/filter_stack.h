@@ -2,7 +2,7 @@
 // front of the lens (the usual place for a fluorescence barrier filter) or near the sensor
 // (cover glass / IR-cut on the sensor package). Interference filters move their spectrum toward
 // the blue with the angle of incidence of the chief ray at their position,
-//   lambda(theta) = lambda0 * sqrt(1 - (sin(theta) / n_eff)^2)        (DESIGN.md section 5)
+//   lambda(theta) = lambda0 * sqrt(1 - (sin(theta) / n_eff)^2)        (docs/camera.md)
 // so the stack's transmittance depends on the pixel. Absorbing (coloured-glass) filters set
 // "interference": false and do not shift. Reflections between filters are ignored (the stack
 // transmittance is the product of the filters').

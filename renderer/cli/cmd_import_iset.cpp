@@ -1,5 +1,5 @@
 // `oralfluor import-iset file.mat -o out`: brings an ISETCam object into oralfluor. A sensor
-// (sensorCreate's struct) becomes a camera file (camera.json, renderer/interop/iset_sensor.h); a
+// (sensorCreate's struct) becomes a camera file (camera.json, renderer/formats/iset_sensor.h); a
 // scene becomes a spectral radiance EXR that `oralfluor camera` can take.
 #include <cctype>
 #include <cstdio>
@@ -13,8 +13,8 @@
 #include "renderer/core/error.h"
 #include "renderer/image/spectral_exr.h"
 #include "renderer/interop/iset_scene.h"
-#include "renderer/interop/iset_sensor.h"
-#include "renderer/interop/mat_file.h"
+#include "renderer/formats/iset_sensor.h"
+#include "renderer/formats/mat_file.h"
 
 namespace ofl {
 namespace {

@@ -134,17 +134,4 @@ std::string csv_quote(const std::string& s) {
   return out + "\"";
 }
 
-void write_csv(const std::filesystem::path& file, const std::vector<std::string>& header,
-               const std::vector<std::vector<double>>& rows) {
-  std::ostringstream out;
-  for (size_t i = 0; i < header.size(); ++i) out << (i ? "," : "") << csv_quote(header[i]);
-  out << "\n";
-  out.precision(9);
-  for (auto& r : rows) {
-    for (size_t i = 0; i < r.size(); ++i) out << (i ? "," : "") << r[i];
-    out << "\n";
-  }
-  write_file_atomic(file, out.str());
-}
-
 }  // namespace ofl

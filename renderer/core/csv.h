@@ -29,9 +29,6 @@ struct CsvNumeric {
 CsvText read_csv(const std::filesystem::path& file);
 CsvNumeric read_numeric_csv(const std::filesystem::path& file);
 
-// Writes a header and rows; numbers printed with enough digits to round-trip.
-void write_csv(const std::filesystem::path& file, const std::vector<std::string>& header,
-               const std::vector<std::vector<double>>& rows);
 std::string csv_quote(const std::string& s);
 
 }  // namespace ofl

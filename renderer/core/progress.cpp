@@ -86,7 +86,6 @@ void install_interrupt_handler() {
   sigaction(SIGTERM, &sa, nullptr);
 }
 bool interrupt_requested() { return g_interrupt.load(std::memory_order_relaxed); }
-void clear_interrupt() { g_interrupt = false; }
 void throw_if_interrupted(const char* doing) {
   if (interrupt_requested()) throw Interrupted(std::string("while ") + doing);
 }

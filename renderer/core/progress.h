@@ -35,7 +35,6 @@ class ProgressBar {
 // interrupt_requested() reports; a second one ends the process at once.
 void install_interrupt_handler();
 bool interrupt_requested();
-void clear_interrupt();  // for tests
 // Throws Interrupted("while <doing>") (printed as "interrupted: while <doing>") once SIGINT/SIGTERM has arrived: the check that
 // phases with nothing to save (loading, checking, tabulating) make between steps, so the first
 // Ctrl-C takes effect within a step rather than after the whole phase.

@@ -117,7 +117,6 @@ class SpectraProblem : public DiagnoseProblem {
   const SpectraSet& data() const { return data_; }
   const SpectraModel& model() const { return model_; }
   const WavelengthGrid& grid() const { return grid_; }
-  const SpectraRange& fit_range() const { return range_; }
   // Names of the fluorophores the model knows: the baseline's, then the extra candidates'.
   const std::vector<std::string>& fluorophore_names() const { return eem_names_; }
   const GridEem& fluorophore_eem(int k) const { return eems_[k]; }

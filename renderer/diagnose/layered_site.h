@@ -84,7 +84,6 @@ class LayeredSite {
   nlohmann::json material(const std::array<double, 3>& theta, bool table_transport = true,
                           const std::map<std::string, double>& amounts = {}) const;
   // Names of the layers that hold blood (their fraction and saturation are the fitted ones).
-  const std::vector<std::string>& blood_layers() const { return blood_layers_; }
   // Nodes computed so far and the CPU seconds they took.
   int nodes_computed() const { return computed_.load(); }
   double node_seconds() const { return 1e-3 * double(node_ms_.load()); }

@@ -47,6 +47,7 @@
 #include <vector>
 
 #include "renderer/diagnose/diagnose_problem.h"
+#include "renderer/spectral/sample_shapes.h"
 
 namespace ofl {
 
@@ -111,11 +112,6 @@ std::vector<double> response_knots(const SpectraRange& range);
 std::vector<CandidateSpec> camera_candidates(const CameraCandidateOptions& o, double signal_scale);
 CameraCause camera_cause(const CandidateSpec& c);
 
-// Operations on a spectrum sampled every `step_nm` (linear in the samples).
-// Gaussian blur of full width at half maximum `fwhm_nm`; near the ends the kernel is renormalised
-// over the samples it covers, so a constant stays constant.
-void gaussian_blur(std::vector<double>& v, double step_nm, double fwhm_nm);
-// v'(l) = v(l - delta): a feature at l0 moves to l0 + delta (linear interpolation, ends clamped).
-void shift_samples(std::vector<double>& v, double step_nm, double delta_nm);
+// gaussian_blur and shift_samples: renderer/spectral/sample_shapes.h
 
 }  // namespace ofl

@@ -1,4 +1,4 @@
-// Closing the loop (issue 6, item 6): the causes a diagnosis accepted become tissue material
+// Closing the loop: the causes a diagnosis accepted become tissue material
 // options, a flat patch of that material is rendered under the measured LED spectrum of a
 // diagnosed spectrum, and the rendered radiance goes through the diagnosis' own instrument model
 // (long-pass, leak, the accepted instrument causes such as bandwidth) so that it is compared with

@@ -1,4 +1,4 @@
-#include "renderer/interop/iset_sensor.h"
+#include "renderer/formats/iset_sensor.h"
 
 #include <array>
 #include <cctype>
@@ -6,7 +6,7 @@
 #include <sstream>
 
 #include "renderer/core/error.h"
-#include "renderer/interop/mat_file.h"
+#include "renderer/formats/mat_file.h"
 
 namespace ofl {
 namespace {

@@ -1,4 +1,4 @@
-#include "renderer/interop/mat_file.h"
+#include "renderer/formats/mat_file.h"
 
 #include <matio.h>
 
@@ -11,7 +11,7 @@
 
 #include "renderer/core/atomic_file.h"
 #include "renderer/core/error.h"
-#include "renderer/interop/mat_prescan.h"
+#include "renderer/formats/mat_prescan.h"
 
 namespace ofl {
 

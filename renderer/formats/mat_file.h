@@ -37,7 +37,6 @@ struct MatValue {
   static MatValue cell_row(std::vector<MatValue> cells);
 
   size_t numel() const;
-  bool is_numeric() const { return kind == Kind::kNumeric; }
   // Adds a field to a struct (replacing one of the same name); returns *this for chaining.
   MatValue& set(const std::string& name, MatValue v);
   const MatValue* field(const std::string& name) const;

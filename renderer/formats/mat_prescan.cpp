@@ -1,4 +1,4 @@
-#include "renderer/interop/mat_prescan.h"
+#include "renderer/formats/mat_prescan.h"
 
 #include <zlib.h>
 

@@ -1,9 +1,9 @@
-#include "renderer/interop/mat_spectrum.h"
+#include "renderer/formats/mat_spectrum.h"
 
 #include <cmath>
 
 #include "renderer/core/error.h"
-#include "renderer/interop/mat_file.h"
+#include "renderer/formats/mat_file.h"
 
 namespace ofl {
 namespace {

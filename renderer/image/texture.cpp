@@ -1,4 +1,4 @@
-#include "renderer/scene/texture.h"
+#include "renderer/image/texture.h"
 
 #include <cmath>
 

@@ -29,7 +29,7 @@
 
 #include "renderer/camera/camera_description.h"
 #include "renderer/image/spectral_image.h"
-#include "renderer/interop/mat_file.h"
+#include "renderer/formats/mat_file.h"
 
 namespace ofl {
 

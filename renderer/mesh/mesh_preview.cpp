@@ -14,7 +14,6 @@
 
 namespace ofl {
 
-std::vector<std::string> named_views() { return {"front", "side", "top", "iso", "camera"}; }
 
 PreviewCamera named_view(const std::string& name) {
   PreviewCamera c;

@@ -26,7 +26,6 @@ struct PreviewCamera {
 // down along -z, +x at the bottom of the picture), "iso", or "camera" (perspective, 5 cm in front
 // of the lips, the way an intra-oral camera looks in).
 PreviewCamera named_view(const std::string& name);
-std::vector<std::string> named_views();
 
 struct ClipPlane {
   int axis = -1;        // -1 = none; 0, 1, 2 = x, y, z

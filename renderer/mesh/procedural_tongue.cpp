@@ -20,11 +20,6 @@ TongueShape tongue_shape(const MouthParams& p) {
   return s;
 }
 
-double tongue_volume(const TongueShape& s) {
-  return 4 * s.a * s.b * (s.c_top + s.c_bottom) * std::tgamma(1 + 1 / s.p) * std::tgamma(1 + 1 / s.q) *
-         std::tgamma(1 + 1 / s.r) / std::tgamma(1 + 1 / s.p + 1 / s.q + 1 / s.r);
-}
-
 TriangleMesh make_procedural_tongue(const MouthParams& p) {
   const TongueShape s = tongue_shape(p);
   const int nu = std::max(16, p.segments / 2);  // around

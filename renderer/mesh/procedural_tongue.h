@@ -18,7 +18,6 @@ struct TongueShape {
   double p = 2.2, q = 2.6, r = 2.2;  // exponents along x, y, z
 };
 TongueShape tongue_shape(const MouthParams& p);
-double tongue_volume(const TongueShape& s);  // the closed form above
 
 // Closed, outward-facing, smooth normals, UVs in [0,1]; material "tongue", name "tongue".
 TriangleMesh make_procedural_tongue(const MouthParams& p);

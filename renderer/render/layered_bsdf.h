@@ -30,7 +30,7 @@
 #include "renderer/render/render_tables.h"
 #include "renderer/render/rng.h"
 #include "renderer/render/stack_walk.h"
-#include "renderer/scene/texture.h"
+#include "renderer/image/texture.h"
 
 namespace ofl {
 

@@ -1,4 +1,4 @@
-// The spectral path tracer (DESIGN.md section 6). A camera sample carries kLanes wavelength lanes
+// The spectral path tracer (docs/transport.md). A camera sample carries kLanes wavelength lanes
 // that share one geometric path. At every surface each lane either reflects or, at a fluorescent
 // surface, is re-radiated: it samples an excitation wavelength in proportion to Phi(em, .) and
 // continues at that wavelength while keeping its camera wavelength for the film. Direct light from

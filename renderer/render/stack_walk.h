@@ -1,4 +1,4 @@
-// The position-free random walk through a layer stack (DESIGN.md section 6, docs/layered-tissue.md).
+// The position-free random walk through a layer stack (docs/layered-tissue.md).
 // Only depth and direction are tracked: the light leaves where it entered, which holds when the
 // pixel footprint is larger than the transport mean free path.
 //

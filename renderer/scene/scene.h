@@ -14,7 +14,7 @@
 #include "renderer/core/json_node.h"
 #include "renderer/scene/camera_spec.h"
 #include "renderer/scene/led_light.h"
-#include "renderer/scene/texture.h"
+#include "renderer/image/texture.h"
 #include "renderer/mesh/triangle_mesh.h"
 #include "renderer/spectral/eem.h"
 #include "renderer/spectral/wavelength_grid.h"

@@ -17,16 +17,6 @@ std::vector<double> GridEem::photon_albedo() const {
   return a;
 }
 
-std::vector<double> GridEem::row_sums() const {
-  int N = n();
-  std::vector<double> r(N, 0.0);
-  for (int em = 0; em < N; ++em) {
-    double s = 0;
-    for (int ex = 0; ex < em; ++ex) s += at(em, ex);
-    r[em] = s * grid.step_nm;
-  }
-  return r;
-}
 
 std::vector<double> GridEem::apply(const std::vector<double>& e) const {
   int N = n();

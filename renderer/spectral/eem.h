@@ -30,8 +30,6 @@ struct GridEem {
   double& at(int em, int ex) { return m[static_cast<size_t>(em) * n() + ex]; }
   // Photon albedo of the fluorescence at excitation index ex: sum over em of Phi * step.
   std::vector<double> photon_albedo() const;
-  // Photons emitted into em per photon-per-nm of light at all ex: sum over ex of Phi * step.
-  std::vector<double> row_sums() const;
   // Emission (per nm, photon units) under an excitation spectrum e(ex) in photon units:
   // out(em) = sum_ex Phi(em, ex) e(ex) step.
   std::vector<double> apply(const std::vector<double>& excitation) const;

@@ -6,8 +6,8 @@
 
 #include "renderer/core/csv.h"
 #include "renderer/core/error.h"
-#include "renderer/interop/mat_spectrum.h"
-#include "renderer/interop/mat_file.h"
+#include "renderer/formats/mat_spectrum.h"
+#include "renderer/formats/mat_file.h"
 #include "renderer/spectral/units.h"
 
 namespace ofl {

@@ -62,7 +62,7 @@ struct SpectrumCsvOptions {
   bool clip_negative = false;
   Outside outside = Outside::kZero;
 };
-// An ISETCam-style .mat (variables `wavelength` and `data`, see renderer/interop/mat_spectrum.h) is
+// An ISETCam-style .mat (variables `wavelength` and `data`, see renderer/formats/mat_spectrum.h) is
 // accepted wherever a spectrum CSV is, the file name's .mat extension deciding.
 TabulatedSpectrum read_spectrum_csv(const std::filesystem::path& file, const SpectrumCsvOptions& opt = {});
 // The table behind a spectrum file: wavelength column then named value columns, from a CSV or a .mat.

@@ -21,7 +21,7 @@
 
 #include "renderer/camera/camera_description.h"
 #include "renderer/scene/scene.h"
-#include "renderer/scene/texture.h"
+#include "renderer/image/texture.h"
 #include "renderer/sweep/rig_generators.h"
 #include "renderer/sweep/sweep_design.h"
 #include "renderer/sweep/sweep_spec.h"

@@ -1,4 +1,4 @@
-// libFuzzer entry points for every parser (issue 15 item 4). Each takes the bytes of one input
+// libFuzzer entry points for every parser. Each takes the bytes of one input
 // file, puts them where the parser expects a file (a private temporary folder) and calls the
 // parser itself: no scene building, no rendering, so a harness runs at hundreds to thousands of
 // executions per second. An InputError is the expected answer to a bad input and is swallowed;
