@@ -178,7 +178,9 @@ void add_restorable_fields(const SpectralImage& img, MatValue& meta) {
   if (!aov.fields.empty()) meta.set("aov", aov);
   nlohmann::json attrs = nlohmann::json::object();
   for (auto& [k, v] : img.attributes) attrs[k] = v;
-  meta.set("exrAttributes", MatValue::string(attrs.dump()));
+  // EXR text attributes are bytes; JSON is UTF-8. Bytes that are not UTF-8 (a Latin-1 description
+  // from another tool) become U+FFFD in this copy; the radiance is not touched.
+  meta.set("exrAttributes", MatValue::string(attrs.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace)));
 }
 
 void resolve_geometry(const SpectralImage& img, const IsetSceneOptions& opt, const std::string& source,

@@ -41,8 +41,7 @@ struct SpatialScatter {
 
 class SpatialTransport {
  public:
-  SpatialTransport(const Scene& scene, const EmbreeScene& embree, const RenderTables& tables)
-      : scene_(scene), embree_(embree), t_(tables) {}
+  SpatialTransport(const Scene& scene, const EmbreeScene& embree, const RenderTables& tables);
 
   // xo: the vertex (normals facing the viewer), geom: its Embree geometry (probes look for points of
   // the same mesh), wo: local direction to the viewer in `frame`. Adds the light gathered to the
@@ -71,6 +70,10 @@ class SpatialTransport {
   const Scene& scene_;
   const EmbreeScene& embree_;
   const RenderTables& t_;
+  // The widest search radius of the scene's spatial stacks (mm): a small share of the entry and
+  // emission points is drawn uniformly over this disc (spatial_vertex.cpp, kDefensive), so that a
+  // neighbouring material whose profile reaches where x_o's does not is still sampled.
+  double wide_mm_ = 0;
 };
 
 }  // namespace ofl
