@@ -87,8 +87,8 @@ struct SpatialTransport::Entry {
 // disc of the scene's widest search radius instead of from x_o's own profile. Across a region
 // boundary the light is weighed by the other material's profile, which may reach further than x_o's
 // or hold mass in rings where x_o's sampled profile holds none; without this share such light
-// would never be sampled (a bias: a 5 mm lesion's centre came out 1.5-3 % dark against the 3D
-// Monte Carlo). Within one material it costs a tenth of the samples.
+// would never be sampled, and the estimate would not be unbiased across regions. Within one
+// material it costs a tenth of the samples.
 constexpr double kDefensive = 0.1;
 
 SpatialTransport::SpatialTransport(const Scene& scene, const EmbreeScene& embree, const RenderTables& tables)
