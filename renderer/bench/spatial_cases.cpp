@@ -318,7 +318,8 @@ Contrast rendered_contrast(const LesionCase& c, const std::string& transport, in
   const SpectralImage& Hh = healthy.result.image;
   const size_t rings = edges.size() - 1;
   Contrast out;
-  for (const auto& [lo, hi] : bands) {
+  for (const auto& band : bands) {
+    const double lo = band.first, hi = band.second;  // (named, not bound: the lambda below reads them)
     // Per ring: the lesion image's mean over the healthy image's mean in the same ring (the patch is
     // finite, so the healthy image is not quite uniform either), with the ratio's standard error.
     std::vector<double> s(rings, 0.0), s2(rings, 0.0), h(rings, 0.0), h2(rings, 0.0), cnt(rings, 0.0);
