@@ -74,6 +74,7 @@ RenderResult render(const Scene& scene, const RenderOptions& opt) {
     pass = std::min(pass, spp - done);
     tbb::parallel_for(tbb::blocked_range<int>(0, tx * ty, 1), [&](const tbb::blocked_range<int>& r) {
       RayCounts local;
+      local.timing = opt.time_stages;
       std::vector<double> acc(B), acc_fl(B);
       for (int tile = r.begin(); tile != r.end(); ++tile) {
         int x0 = (tile % tx) * kTile, y0 = (tile / tx) * kTile;
