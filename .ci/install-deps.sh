@@ -2,7 +2,8 @@
 # Installs the Debian 12 packages oralfluor builds and tests with, only those missing.
 # Idempotent: a second run does nothing. Needs root (or sudo) when something is missing.
 # Python module and its tests: pybind11-dev, python3-numpy, python3-pytest, python3-matplotlib (for
-# /usr/bin/python3). octave: one test loads an exported ISETCam scene in Octave (measured on the
+# /usr/bin/python3); python3-venv, python3-pip and python3-build for `pip install .` and
+# `python3 -m build` into a virtual environment (python/tests/test_package.py). octave: one test loads an exported ISETCam scene in Octave (measured on the
 # 2-core machine: 72 s of apt for octave with its dependencies, 83 s for the Python packages).
 set -euo pipefail
 pkgs=(
@@ -14,6 +15,7 @@ pkgs=(
   chromium
   fonts-dejavu-core dcraw
   pybind11-dev python3-dev python3-numpy python3-pytest python3-matplotlib
+  python3-venv python3-pip python3-build
   octave
 )
 missing=()

@@ -46,7 +46,9 @@ struct TissueLayer {
 // How light is carried inside the stack at render time (docs/layered-tissue.md, "Cost").
 enum class StackTransport {
   kTable,  // a response table filled once by the walk at scene load (renderer/render/stack_response.h)
-  kWalk    // the random walk at every shading point (the reference)
+  kWalk,    // the random walk at every shading point (the reference)
+  kSpatial  // the table for the directional part and lateral profiles for where light comes back out
+            // (renderer/render/spatial/, docs/layered-tissue.md "Lateral transport")
 };
 
 // What lies under the last layer.
@@ -66,6 +68,7 @@ struct LayerStack {
   StackTransport transport = StackTransport::kTable;
   int table_photons = 0;          // walks per incidence cosine and wavelength group; 0 = the default
   int table_similarity_after = -1; // collisions before the table's walks scatter by similarity; 0 = never, -1 = the default
+  int profile_photons = 0;        // spatial: walks per cosine and wavelength group filling the profiles; 0 = the default
 };
 
 }  // namespace ofl

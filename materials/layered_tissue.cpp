@@ -8,10 +8,16 @@
 //                                    (GGX) dielectric interface; false or absent = smooth bare top
 //   "ambient_ior": 1.0               medium above the tissue
 //   "layers": [<layer>, ...]         top to bottom
-//   "transport": "table" | "walk"   table (default): the stack's response tabulated once at scene load
-//                                    (renderer/render/stack_response.h); walk: the random walk at every
-//                                    shading point (the reference)
+//   "transport": "table" | "spatial" | "walk"
+//                                    table (default): the stack's response tabulated once at scene load
+//                                    (renderer/render/stack_response.h), light leaves where it entered;
+//                                    spatial: the same table for the directional part and lateral
+//                                    profiles for where light comes back out (renderer/render/spatial/);
+//                                    walk: the position-free random walk at every shading point (the
+//                                    reference)
 //   "table_photons": 2000            walks per incidence cosine and wavelength group filling the table
+//   "profile_photons": 20000         spatial: walks per incidence cosine and wavelength group filling the
+//                                    lateral profiles
 //   "table_similarity_after": 60     collisions after which the table's walks scatter isotropically with
 //                                    mus (1 - g) (the similarity relation); 0 = the exact phase throughout
 //   "bottom": "semi_infinite" | {"type": "open", "ior": 1.0}
@@ -174,21 +180,31 @@ TissueLayer parse_layer(const JsonNode& n, bool last, MaterialContext& ctx) {
 
 // Merges `patch` into `target` (RFC 7386 style: objects merge, everything else replaces), except
 // that a name-keyed object given where the target holds a list of named entries merges into those
-// entries by name (and appends new names).
-void merge_named(nlohmann::json& target, const nlohmann::json& patch, const JsonNode& where) {
+// entries by name. `where` is the user's node for `patch`. A new name adds an entry (a fluorophore
+// the preset's layer lacks), except among the preset's "layers": a name the preset does not have
+// there is a misspelling, not a new bottom layer, and is refused naming the layer and the
+// preset's own layers.
+void merge_named(nlohmann::json& target, const nlohmann::json& patch, const JsonNode& where, const std::string& preset,
+                 const std::string& key = "") {
   if (target.is_array() && patch.is_object()) {
     for (auto it = patch.begin(); it != patch.end(); ++it) {
       nlohmann::json* hit = nullptr;
       for (auto& e : target)
         if (e.is_object() && e.value("name", "") == it.key()) hit = &e;
       if (hit) {
-        merge_named(*hit, it.value(), where);
-      } else {
-        nlohmann::json e = it.value();
-        if (!e.is_object()) where.fail("\"" + it.key() + "\" is not in the preset; a new entry needs an object");
-        e["name"] = it.key();
-        target.push_back(e);
+        merge_named(*hit, it.value(), where.at(it.key()), preset);
+        continue;
       }
+      if (key == "layers") {
+        std::string names;
+        for (auto& e : target) names += (names.empty() ? "\"" : ", \"") + (e.is_object() ? e.value("name", "?") : "?") + "\"";
+        where.at(it.key()).fail("preset \"" + preset + "\" has no layer \"" + it.key() + "\" (its layers: " + names +
+                                "); an override can only change the preset's layers (give \"layers\" as a list for a stack of your own)");
+      }
+      nlohmann::json e = it.value();
+      if (!e.is_object()) where.at(it.key()).fail("\"" + it.key() + "\" is not in the preset; a new entry needs an object");
+      e["name"] = it.key();
+      target.push_back(e);
     }
     return;
   }
@@ -198,7 +214,7 @@ void merge_named(nlohmann::json& target, const nlohmann::json& patch, const Json
   }
   for (auto it = patch.begin(); it != patch.end(); ++it) {
     if (it.value().is_null()) target.erase(it.key());
-    else if (target.contains(it.key())) merge_named(target[it.key()], it.value(), where);
+    else if (target.contains(it.key())) merge_named(target[it.key()], it.value(), where.at(it.key()), preset, it.key());
     else target[it.key()] = it.value();
   }
 }
@@ -247,20 +263,27 @@ nlohmann::json merged_document(const JsonNode& n) {
   user.erase("preset");
   // The user's own relative file names are relative to the user's file.
   absolutise_files(user, std::filesystem::path(n.file()).parent_path());
-  merge_named(mat, user, n);
+  merge_named(mat, user, n, n.at("preset").string());
   return mat;
 }
 
 void parse_stack(const JsonNode& m, Material& out, MaterialContext& ctx) {
   m.check_keys({"type", "coating", "ambient_ior", "layers", "bottom", "transport", "table_photons",
-                "table_similarity_after"});
+                "table_similarity_after", "profile_photons"});
   LayerStack& st = out.stack;
   st.enabled = true;
   if (auto t = m.find("transport")) {
     std::string v = t->string();
     if (v == "table") st.transport = StackTransport::kTable;
     else if (v == "walk") st.transport = StackTransport::kWalk;
-    else t->fail("expected \"table\" or \"walk\"");
+    else if (v == "spatial") st.transport = StackTransport::kSpatial;
+    else t->fail("expected \"table\", \"spatial\" or \"walk\"");
+  }
+  if (auto t = m.find("profile_photons")) {
+    if (st.transport != StackTransport::kSpatial) t->fail("only a \"spatial\" transport has lateral profiles to fill");
+    double v = t->number(100.0, 1e7);
+    if (v != std::floor(v)) t->fail("expected a whole number of walks");
+    st.profile_photons = int(v);
   }
   if (auto t = m.find("table_photons")) st.table_photons = int(t->number(100.0, 1e7));
   if (auto t = m.find("table_similarity_after")) {

@@ -37,11 +37,15 @@ struct Coating {
   double roughness = 0.15;  // GGX alpha
 };
 
-// Part of a "regions" material: where the mask texture exceeds the threshold, the surface is made of
-// another scene material (materials/regions.cpp).
+// Part of a "regions" material: where the mask texture exceeds the threshold, or within a sphere
+// (a disc where the sphere cuts a surface), the surface is made of another scene material
+// (materials/regions.cpp).
 struct MaterialRegion {
-  int texture = -1;
+  int texture = -1;  // the mask; -1 for a sphere region
   double threshold = 0.5;
+  bool sphere = false;
+  double centre_m[3] = {0, 0, 0};
+  double radius_m = 0;
   std::string material_name;
   int material = -1;  // resolved after every material is read
 };

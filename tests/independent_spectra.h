@@ -29,7 +29,8 @@ namespace ofl::indep {
 struct Options {
   uint64_t seed = 1;
   // "" (null data), "emission_shift" (every fluorophore), "emission_shift:FAD", "wavelength_shift"
-  // (instrument axis), "offset" (flat, fraction of the mean), "excitation_leak" (LED light through
+  // (instrument axis), "offset" (flat, fraction of the mean), "offset_peak" (flat, detector side: a
+  // fraction of each spectrum's recorded peak), "excitation_leak" (LED light through
   // the long-pass at an effective OD), "unknown_fluorophore" (a band in no library spectrum),
   // "subset_chlorophyll" (chlorophyll-a in one subject only).
   std::string effect;
@@ -48,6 +49,10 @@ struct Options {
   // "edge_width" (the long-pass rises over 7.5 nm, not 5), "blur" (the instrument blurs by 3 nm FWHM
   // more than stated).
   std::string instrument_error;
+  // What the fitting model is told of the leak: "measured" (the white-target records), "none" (no
+  // leak column: the longpass_leak candidate is computed from the LED spectra and the long-pass).
+  // Data made for a "none" model should use white_leak = 0.
+  std::string model_leak = "measured";
 };
 
 struct Data {
@@ -116,6 +121,10 @@ inline Data make_independent(const Options& o) {
 
   Data d;
   d.model = independent_model();
+  if (o.model_leak == "none")
+    d.model.leak = LeakSource::kNone;
+  else if (o.model_leak != "measured")
+    throw std::invalid_argument("independent generator: unknown model_leak " + o.model_leak);
   d.effect = o.effect;
   d.set.index_file = "independent";
 
@@ -130,7 +139,7 @@ inline Data make_independent(const Options& o) {
   // The hidden effect's size.
   double m = o.magnitude;
   std::vector<double> shift(4, 0.0);
-  double axis = 0, offset = 0, leak_od = 99, band_peak = 0, band_share = 0, chl_share = 0;
+  double axis = 0, offset = 0, offset_peak = 0, leak_od = 99, band_peak = 0, band_share = 0, chl_share = 0;
   double leak_log_sum = 0;
   int leak_count = 0;
   int carrier_subject = -1;
@@ -150,6 +159,10 @@ inline Data make_independent(const Options& o) {
     if (std::isnan(m)) m = U(0.02, 0.06);
     offset = m;
     d.truth["fraction"] = m;
+  } else if (o.effect == "offset_peak") {
+    if (std::isnan(m)) m = U(0.01, 0.08);
+    offset_peak = m;
+    d.truth["fraction_of_peak"] = m;
   } else if (o.effect == "excitation_leak") {
     // Size: the leaked light's mean over the fit range as a fraction of the signal; the truth is
     // the effective OD (mean over spectra of -log10 of leaked / LED radiance), as diagnose reports it.
@@ -290,6 +303,12 @@ inline Data make_independent(const Options& o) {
             if (leak_amp_ex > 0 && e[i] > 1e-3 * emax) rec[i] += e[i] * leak_amp_ex * (1 - longpass(g[i]) / 0.95);
           }
           for (size_t i = 0; i < N; ++i) rec[i] += offset * sig_mean;
+          if (offset_peak > 0) {  // detector side: a fraction of what the spectrum records at its peak
+            double peak = 0;
+            for (size_t i = 0; i < N; ++i)
+              if (in_fit(g[i])) peak = std::max(peak, rec[i]);
+            for (size_t i = 0; i < N; ++i) rec[i] += offset_peak * peak;
+          }
           if (o.instrument_error == "blur") {  // a Gaussian of 3 nm FWHM on the 0.5 nm grid
             const double sg = 3.0 / 2.3548;
             std::vector<double> b(N, 0.0);

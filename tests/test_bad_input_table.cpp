@@ -1,13 +1,20 @@
 // Walks the bad-input table in docs/bad-inputs.md: every row names an input under
 // tests/data/bad_inputs, a command, the exit code and a piece of the message. Each row is run
 // through the real CLI; the output must contain the text, hold no raw binary bytes, and the
-// output folder must hold no temporary files.
+// output folder must hold no temporary files. A command may be several steps joined by " && "
+// (leading NAME=value words set a step's environment; "@truncate", "@flip", "@swap" and "@write"
+// steps damage files, such as cache entries a previous step wrote): the last step is the answer.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -86,6 +93,105 @@ std::string substitute(std::string s, const std::string& key, const std::string&
   return s;
 }
 
+std::vector<std::string> split(const std::string& s, const std::string& sep) {
+  std::vector<std::string> out;
+  size_t at = 0;
+  for (size_t next; (next = s.find(sep, at)) != std::string::npos; at = next + sep.size()) out.push_back(trim(s.substr(at, next - at)));
+  out.push_back(trim(s.substr(at)));
+  return out;
+}
+
+// The files a glob names (one '*' in the file name at most), sorted.
+std::vector<fs::path> glob(const std::string& pattern) {
+  fs::path p = pattern;
+  std::string name = p.filename().string();
+  size_t star = name.find('*');
+  if (star == std::string::npos) return {p};
+  std::vector<fs::path> out;
+  std::error_code ec;
+  for (auto& e : fs::directory_iterator(p.parent_path(), ec)) {
+    std::string n = e.path().filename().string();
+    if (n.size() + 1 >= name.size() && n.rfind(name.substr(0, star), 0) == 0 &&
+        n.compare(n.size() - (name.size() - star - 1), std::string::npos, name.substr(star + 1)) == 0)
+      out.push_back(e.path());
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+std::string read_file(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+void write_file(const fs::path& p, const std::string& bytes) { std::ofstream(p, std::ios::binary) << bytes; }
+
+// A damage step ("@truncate GLOB BYTES", "@flip GLOB OFFSET", "@swap GLOB", "@write GLOB TEXT"):
+// applied to every file the glob names ("@swap": exchanges the first two files' bytes). Returns ""
+// or what went wrong.
+std::string damage(const std::string& step) {
+  std::istringstream in(step);
+  std::string verb, pattern, arg;
+  in >> verb >> pattern;
+  std::getline(in, arg);
+  arg = trim(arg);
+  auto files = glob(pattern);
+  if (files.empty() || !fs::exists(files.front())) return step + ": no file matches";
+  if (verb == "@swap") {
+    if (files.size() < 2) return step + ": needs two files";
+    std::string a = read_file(files[0]), b = read_file(files[1]);
+    write_file(files[0], b);
+    write_file(files[1], a);
+    return "";
+  }
+  for (auto& f : files) {
+    std::string bytes = read_file(f);
+    if (verb == "@truncate") bytes.resize(std::min(bytes.size(), size_t(std::stoull(arg))));
+    else if (verb == "@flip" && std::stoull(arg) < bytes.size()) bytes[std::stoull(arg)] ^= 0x5a;
+    else if (verb == "@write") bytes = arg;
+    else return step + ": unknown damage or offset past the end";
+    write_file(f, bytes);
+  }
+  return "";
+}
+
+// One oralfluor step: leading NAME=value words are its environment.
+ofl::test::CliResult run_step(const std::string& step) {
+  std::istringstream in(step);
+  std::string env, word;
+  std::streampos args_at = 0;
+  while (in >> word && word.find('=') != std::string::npos && word.find('=') > 0 && word[0] != '-') {
+    env += word + " ";
+    args_at = in.tellg();
+  }
+  std::string args = step.substr(size_t(args_at));
+  if (env.empty()) return ofl::test::run_cli(args);
+  std::string cmd = env + std::string(OFL_BINARY) + " " + args + " 2>&1";
+  ofl::test::CliResult r;
+  FILE* p = popen(cmd.c_str(), "r");
+  if (!p) return r;
+  char buf[4096];
+  size_t n;
+  while ((n = fread(buf, 1, sizeof buf, p)) > 0) r.output.append(buf, n);
+  int status = pclose(p);
+  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return r;
+}
+
+// Runs a row's command: steps joined by " && "; "@..." steps damage files, the others run oralfluor.
+// Every step but the last must succeed; the last one's answer is the row's.
+ofl::test::CliResult run_row(const std::string& command) {
+  auto steps = split(command, " && ");
+  for (size_t i = 0; i + 1 < steps.size(); ++i) {
+    if (steps[i].rfind("@", 0) == 0) {
+      std::string e = damage(steps[i]);
+      if (!e.empty()) return {-2, "setup step failed: " + e};
+      continue;
+    }
+    auto r = run_step(steps[i]);
+    if (r.exit_code != 0) return {-2, "setup step failed: " + steps[i] + "\n" + r.output};
+  }
+  return run_step(steps.back());
+}
 
 }  // namespace
 
@@ -107,11 +213,29 @@ TEST(BadInputTable, EveryRowGivesTheDocumentedAnswer) {
     fs::create_directories(out);
     std::string cmd = substitute(substitute(r.command, "{dir}", data.string()), "{out}", out.string());
     std::string expect = substitute(substitute(r.expect, "{dir}", data.string()), "{out}", out.string());
-    auto res = ofl::test::run_cli(cmd);
+    auto t0 = std::chrono::steady_clock::now();
+    auto res = run_row(cmd);
+    if (std::getenv("OFL_TEST_VERBOSE"))
+      std::printf("%.2f s  line %d: %s\n", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), r.line,
+                  r.what.c_str());
     EXPECT_EQ(res.exit_code, r.exit_code) << cmd << "\n" << res.output;
     EXPECT_NE(res.output.find(expect), std::string::npos) << cmd << "\nexpected: " << expect << "\ngot: " << res.output;
     if (r.exit_code != 0) {
       EXPECT_EQ(res.output.find("internal error"), std::string::npos) << res.output;
+    }
+    if (r.exit_code == 2) {
+      // One error line; any other line is oralfluor's own ("warning: ", "sweep: "), never a
+      // library's (libpng prints "libpng error: ..." itself).
+      int errors = 0;
+      std::istringstream lines(res.output);
+      for (std::string l; std::getline(lines, l);) {
+        errors += l.rfind("error: ", 0) == 0;
+        size_t colon = l.find(": ");
+        bool own = colon != std::string::npos && colon > 0 &&
+                   std::all_of(l.begin(), l.begin() + long(colon), [](char c) { return (c >= 'a' && c <= 'z') || c == '-' || c == '_'; });
+        EXPECT_TRUE(own || l.rfind("sweep[rank ", 0) == 0) << "not one of oralfluor's lines: " << l;
+      }
+      EXPECT_EQ(errors, 1) << res.output;
     }
     for (unsigned char c : res.output)
       if (!(c == '\n' || (c >= 0x20 && c < 0x7f))) {

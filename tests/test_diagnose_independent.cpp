@@ -101,6 +101,39 @@ TEST(DiagnoseIndependent, ExcitationLeakIsNamedAloneWithItsSize) {
   if (r.first() == "longpass_leak") EXPECT_NEAR(r.estimate("effective_od"), data.truth.at("effective_od"), 0.0414) << r.all();
 }
 
+TEST(DiagnoseIndependent, ExcitationLeakIsNamedWithoutAMeasuredLeak) {
+  // The model has no leak column ("leak": "none") and the data no white-target leak: the leak
+  // candidate is the LED spectrum times the long-pass's blocked fraction. Before, there was no
+  // candidate at all and leaked light could only be described by wrong causes.
+  indep::Options o;
+  o.effect = "excitation_leak";
+  o.seed = 24;
+  o.magnitude = 0.03;
+  o.model_leak = "none";
+  o.white_leak = 0;
+  auto data = indep::make_independent(o);
+  Outcome r = diagnose_independent(data, 3);
+  EXPECT_EQ(r.first(), "longpass_leak") << r.all();
+  EXPECT_EQ(r.d.causes.size(), 1u) << r.all();
+  // 10 % in leaked radiance is 0.041 in optical density.
+  if (r.first() == "longpass_leak") EXPECT_NEAR(r.estimate("effective_od"), data.truth.at("effective_od"), 0.0414) << r.all();
+}
+
+TEST(DiagnoseIndependent, ADetectorSideOffsetOfOneToEightPercentOfThePeakIsStrayLightAlone) {
+  // A flat offset added to what the instrument records, a fraction of each spectrum's peak: named
+  // stray_light and nothing else, its size within 10 %. At 8 % of the peak it is about a fifth of
+  // the mean signal, which the plausible range once measured against the mean signal set aside.
+  for (double m : {0.01, 0.08}) {
+    SCOPED_TRACE(m);
+    auto data = make("offset_peak", 28, m);
+    Outcome r = diagnose_independent(data, 3);
+    EXPECT_EQ(r.first(), "stray_light") << r.all();
+    EXPECT_EQ(r.d.causes.size(), 1u) << r.all();
+    EXPECT_TRUE(r.d.set_aside.empty()) << r.all();
+    if (r.first() == "stray_light") EXPECT_NEAR(r.estimate("fraction_of_peak"), m, 0.1 * m) << r.all();
+  }
+}
+
 TEST(DiagnoseIndependent, AnUnknownBandIsFoundWithinFiveNanometres) {
   // Two shapes the model does not have: a Gaussian in wavenumber (the symmetric limit of its
   // log-normal) and a band skewed in wavelength (half widths 18 and 36 nm). Named alone: before the

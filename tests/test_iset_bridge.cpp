@@ -15,6 +15,8 @@
 #include "renderer/interop/iset_scene.h"
 #include "renderer/interop/iset_sensor.h"
 #include "renderer/interop/mat_file.h"
+#include "renderer/interop/mat_spectrum.h"
+#include "renderer/spectral/spectrum.h"
 #include "renderer/spectral/color.h"
 #include "tests/cli_runner.h"
 
@@ -67,6 +69,8 @@ SpectralImage test_image(const std::string& led_json) {
   img.attributes["oralfluor.excitation_spd"] = led_json;
   return img;
 }
+
+MatValue iset_sensor();  // an ISETCam sensor struct (below)
 
 const std::string kTrapezoidLed = R"({"nm": [350, 420, 430, 470, 480, 800], "W_per_sr_nm": [0, 0, 0.02, 0.02, 0, 0]})";
 
@@ -142,6 +146,72 @@ TEST(IsetScene, ReadBackGivesTheRadiance) {
   for (size_t i = 0; i < img.data.size(); ++i) EXPECT_NEAR(back.data[i], img.data[i], 2e-7 * img.data[i]) << i;
   EXPECT_NEAR(std::stod(back.attributes.at("oralfluor.vfov_deg")), 30.0, 1e-5);
   EXPECT_NEAR(std::stod(back.attributes.at("oralfluor.iset_distance_m")), 0.5, 1e-9);
+}
+
+TEST(IsetScene, ImportOfAnExportRestoresEverythingTheExrHad) {
+  SpectralImage img = test_image(kTrapezoidLed);
+  img.attributes["emissiveUnits"] = "W.m^-2.sr^-1";
+  img.attributes["oralfluor.scene"] = "scenes/x.json";
+  auto d = tmp_dir();
+  write_spectral_exr(d / "orig.exr", img);
+  auto r = test::run_cli("export-iset " + (d / "orig.exr").string() + " -o " + (d / "rt.mat").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  r = test::run_cli("import-iset " + (d / "rt.mat").string() + " -o " + (d / "back.exr").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  SpectralImage a = read_spectral_exr(d / "orig.exr"), b = read_spectral_exr(d / "back.exr");
+  ASSERT_EQ(b.width, a.width);
+  ASSERT_EQ(b.height, a.height);
+  EXPECT_EQ(b.band_nm, a.band_nm);
+  // W -> photons (single) -> W: two roundings of a float.
+  for (size_t i = 0; i < a.data.size(); ++i) EXPECT_NEAR(b.data[i], a.data[i], 2.5e-7 * a.data[i]) << i;
+  ASSERT_EQ(b.fluorescence.size(), a.fluorescence.size());
+  for (size_t i = 0; i < a.fluorescence.size(); ++i) EXPECT_NEAR(b.fluorescence[i], a.fluorescence[i], 2.5e-7 * a.fluorescence[i]) << i;
+  ASSERT_EQ(b.aovs.size(), a.aovs.size());
+  for (auto& [k, v] : a.aovs) EXPECT_EQ(b.aovs.at(k), v) << k;  // stored as single: exact
+  for (auto& [k, v] : a.attributes) EXPECT_EQ(b.attributes.at(k), v) << k;
+  EXPECT_EQ(b.attributes.at("oralfluor.iset_source"), (d / "rt.mat").string());
+  // A scene ISETCam made (no oralfluor fields) still imports: radiance only.
+  MatValue sc = *read_mat_variable(d / "rt.mat", "scene");
+  sc.field("metadata")->fields.clear();
+  write_mat_file(d / "plain.mat", {{"scene", sc}});
+  SpectralImage c = read_iset_scene(d / "plain.mat");
+  EXPECT_TRUE(c.fluorescence.empty());
+  EXPECT_TRUE(c.aovs.empty());
+  EXPECT_NEAR(std::stod(c.attributes.at("oralfluor.vfov_deg")), 30.0, 1e-12);
+  // A damaged AOV is named.
+  sc = *read_mat_variable(d / "rt.mat", "scene");
+  sc.field("metadata")->field("aov")->fields[0].second = MatValue::array({2, 2}, {1, 2, 3, 4}, true);
+  write_mat_file(d / "bad_aov.mat", {{"scene", sc}});
+  std::string e = input_error_of([&] { read_iset_scene(d / "bad_aov.mat"); });
+  EXPECT_NE(e.find("scene.metadata.aov.depth: expected 4 x 6"), std::string::npos) << e;
+}
+
+TEST(IsetScene, ImportRefusesAnOutputOfTheOtherKind) {
+  // A scene becomes an EXR, a sensor a camera file: the wrong extension is exit 2 and no file.
+  auto d = tmp_dir();
+  write_iset_scene(d / "kind_scene.mat", make_iset_scene(test_image(kTrapezoidLed), {}, "x.exr"));
+  std::filesystem::remove(d / "camera.json");
+  auto r = test::run_cli("import-iset " + (d / "kind_scene.mat").string() + " -o " + (d / "camera.json").string());
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("camera.json: -o: the input is an ISETCam scene, which becomes a spectral EXR"), std::string::npos) << r.output;
+  EXPECT_FALSE(std::filesystem::exists(d / "camera.json"));
+  write_mat_file(d / "kind_sensor.mat", {{"sensor", iset_sensor()}});
+  std::filesystem::remove(d / "sensor.exr");
+  r = test::run_cli("import-iset " + (d / "kind_sensor.mat").string() + " -o " + (d / "sensor.exr").string());
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("sensor.exr: -o: the input is an ISETCam sensor"), std::string::npos) << r.output;
+  EXPECT_FALSE(std::filesystem::exists(d / "sensor.exr"));
+}
+
+TEST(IsetSpectrum, PaddedColumnNamesMatchWithoutTheSpaces) {
+  // ISETCam's SixLEDs.mat names its columns ' led525' and so on.
+  auto file = tmp_dir() / "six.mat";
+  write_spectrum_mat(file, {400, 500, 600}, {{0, 1, 0}, {1, 0, 0}}, {" led525", "led450  "});
+  CsvNumeric t = read_spectrum_table(file);
+  EXPECT_EQ(t.column("led525"), 1);
+  EXPECT_EQ(t.column(" led525"), 1);
+  EXPECT_EQ(t.column("led450"), 2);
+  EXPECT_EQ(t.rows[1][t.column("led525")], 1.0);
 }
 
 TEST(IsetScene, LightOutsideTheBandsIsReportedAndMissingGeometryRefused) {

@@ -74,6 +74,24 @@ TEST(LedLight, ShortPassFilterRemovesPower) {
   EXPECT_NEAR(l.intensity_W_sr, 0.5, 0.02);  // half of a symmetric line passes a sharp edge at its peak
 }
 
+TEST(LedLight, FilterTakesEverySpectrumForm) {
+  // A transmittance CSV named by a string (as scene-format.md's "Spectra" allows), a constant and
+  // points: a flat 0.3 from a file, times 0.5, times a ramp that is 1 at the line's 450 nm peak.
+  auto csv = std::filesystem::temp_directory_path() / "ofl_led_filter.csv";
+  std::ofstream(csv) << "wavelength_nm,t\n300,0.3\n900,0.3\n";
+  auto led_with = [&](nlohmann::json filter) {
+    nlohmann::json led = {{"spd", {{"type", "gaussian"}, {"peak_nm", 450}, {"fwhm_nm", 4}}}, {"radiant_intensity_W_sr", 1.0},
+                          {"filters", filter}, {"position", {0, 0, 0}}, {"target", {0, 0, -1}}};
+    return parse_led(JsonFile::from(led, "led").root(), WavelengthGrid{350, 830, 1});
+  };
+  EXPECT_NEAR(led_with({csv.string()}).intensity_W_sr, 0.3, 1e-9);
+  EXPECT_NEAR(led_with({csv.string(), 0.5}).intensity_W_sr, 0.15, 1e-9);
+  nlohmann::json ramp = {{"type", "points"}, {"points", {{440, 0.9}, {460, 1.1}}}};  // 1 at 450, antisymmetric: mean 1
+  EXPECT_THROW(led_with({ramp}), InputError);  // above 1: not a transmittance
+  ramp["points"] = {{440, 0.8}, {460, 1.0}};   // 0.9 at 450, linear: the symmetric line sees 0.9
+  EXPECT_NEAR(led_with({ramp}).intensity_W_sr, 0.9, 1e-3);
+}
+
 namespace {
 // A one-triangle glTF whose node has translation, rotation and scale.
 std::filesystem::path write_triangle_gltf() {

@@ -7,9 +7,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <array>
+#include <cstdio>
 
 #include <glm/geometric.hpp>
 
+#include "renderer/bench/bench_support.h"
 #include "renderer/render/light_choice.h"
 #include "renderer/render/rng.h"
 #include "renderer/spectral/units.h"
@@ -192,4 +195,72 @@ TEST(LightChoice, PickFollowsItsProbabilities) {
   EXPECT_GT(test::chi_square(obs, exp).p_value, 1e-3);
   // No LED can light a point under the floor facing down: no choice at all.
   EXPECT_EQ(choice.pick({0, 0, -0.01}, -n, -n, 0.5).light, -1);
+}
+
+namespace {
+
+// Per seed, the image means over three bands of rows (0-10, 11-21, 22-31) and every output band.
+std::vector<std::array<double, 3>> region_means(const std::string& selection, int seeds) {
+  using nlohmann::json;
+  std::vector<std::array<double, 3>> out;
+  for (int s = 1; s <= seeds; ++s) {
+    BenchOptions o{8, uint64_t(100 + s), false, "", selection};
+    json j = bench::base_scene(o, 100000);
+    j["camera"] = {{"position", {0, 0, 0}}, {"look_at", {1, 0.4, 0.1}}, {"up", {0, 0, 1}}, {"fov_deg", 100}, {"resolution", {32, 32}}};
+    j["materials"] = {{"wall", {{"type", "lambertian"}, {"reflectance", 0.7}}}};
+    j["geometry"] = {{{"type", "sphere"}, {"center", {0, 0, 0}}, {"radius", 1.0}, {"material", "wall"}}};
+    auto spot = [](double inner, double outer) {
+      json rows = json::array();
+      for (int i = 0; i <= 180; ++i) {
+        const double a = i * 0.5, t = std::clamp((outer - a) / (outer - inner), 0.0, 1.0);
+        rows.push_back({a, t * t * (3 - 2 * t)});
+      }
+      return json{{"table", rows}};
+    };
+    j["lights"] = {
+        {{"type", "led"}, {"spd", 1.0}, {"radiant_intensity_W_sr", 1.0}, {"profile", spot(20, 25)}, {"position", {0.2, 0, 0}}, {"axis", {1, 0.3, 0}}},
+        {{"type", "led"}, {"spd", {{"type", "blackbody"}, {"temperature_K", 3000}}}, {"radiant_intensity_W_sr", 0.5},
+         {"profile", {{"half_angle_deg", 40}}}, {"radius_m", 0.05}, {"position", {-0.3, 0.1, 0}}, {"axis", {-1, 0, 0.2}}},
+        {{"type", "led"}, {"spd", 1.0}, {"radiant_intensity_W_sr", 0.8}, {"profile", spot(10, 14)}, {"position", {0, -0.4, 0.3}}, {"axis", {0.5, 1, -0.2}}}};
+    bench::Rendered r = bench::render_json(j, "light_choice_" + selection);
+    const SpectralImage& img = r.result.image;
+    std::array<double, 3> m{};
+    for (int k = 0; k < 3; ++k) {
+      const int y0 = k * 11, y1 = std::min(32, (k + 1) * 11);
+      double sum = 0;
+      int n = 0;
+      for (int y = y0; y < y1; ++y)
+        for (int x = 0; x < img.width; ++x)
+          for (int b = 0; b < img.bands(); ++b, ++n) sum += img.data[(size_t(y) * img.width + x) * img.bands() + b];
+      m[k] = sum / n;
+    }
+    out.push_back(m);
+  }
+  return out;
+}
+
+}  // namespace
+
+// The choice by reach against the older choice by power on one scene, within their noise: a closed
+// white-ish sphere (many bounces, Russian roulette) lit by two spots and a disk LED that faces away
+// from most of the wall (its MIS with continuation rays that hit it uses the choice's probability
+// at the point they left). Image means over three bands of rows, 8 seeds each: Welch's t below 4.
+TEST(LightChoice, AgreesWithChoiceByPowerWithinNoise) {
+  const int seeds = 8;
+  const auto a = region_means("reach", seeds), b = region_means("power", seeds);
+  auto mv = [](const std::vector<std::array<double, 3>>& v, int k) {
+    double m = 0, s = 0;
+    for (const auto& x : v) m += x[k];
+    m /= v.size();
+    for (const auto& x : v) s += (x[k] - m) * (x[k] - m);
+    return std::pair{m, s / (v.size() - 1) / v.size()};  // mean and its variance
+  };
+  for (int k = 0; k < 3; ++k) {
+    const auto [ma, va] = mv(a, k);
+    const auto [mb, vb] = mv(b, k);
+    const double t = (ma - mb) / std::sqrt(va + vb);
+    std::printf("rows %d: reach %.5g +- %.2g, power %.5g +- %.2g, t = %.2f\n", k, ma, std::sqrt(va), mb, std::sqrt(vb), t);
+    EXPECT_LT(std::fabs(t), 4.0);
+    EXPECT_GT(ma, 0.0);
+  }
 }

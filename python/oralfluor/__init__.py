@@ -13,8 +13,33 @@ The jobs of the ``oralfluor`` command line as Python calls on numpy arrays (docs
     raw.raw               # uint16 mosaic; raw.electrons: expected electrons (rows, cols, 3)
 
 Bad input raises ``oralfluor.InputError`` (a ValueError) whose message is the CLI's one line,
-naming the file and the field.
+naming the file and the field (or the argument).
 """
+import sys as _sys
+
+
+def _explain_import_error(err):
+    """An ImportError that says which Python the compiled core was built for, when it is not this one."""
+    import glob
+    import os
+    here = os.path.dirname(os.path.abspath(__file__))
+    built = sorted(os.path.basename(p) for p in glob.glob(os.path.join(here, "_oralfluor*.so")))
+    try:
+        from ._build_info import python_executable, python_version
+        target = f"Python {python_version} ({python_executable})"
+    except ImportError:
+        target = " or ".join(built) or "no Python (no _oralfluor*.so next to this file)"
+    this = f"Python {_sys.version.split()[0]} ({_sys.executable})"
+    return ImportError(
+        f"oralfluor's compiled core in {here} was built for {target}, and {this} cannot load it ({err}). "
+        f"Run it with that Python, or build the module for this one: docs/python.md, 'Another Python'.")
+
+
+try:
+    from . import _oralfluor  # noqa: F401
+except ImportError as _e:
+    raise _explain_import_error(_e) from _e
+
 from ._oralfluor import (  # noqa: F401  (the compiled core)
     Camera,
     CameraResult,
@@ -23,6 +48,7 @@ from ._oralfluor import (  # noqa: F401  (the compiled core)
     chromaticity,
     diagnose,
     export_iset,
+    export_iset_oi,
     fluorophore_eem,
     fluorophores,
     import_iset_sensor,
@@ -41,7 +67,7 @@ from .jobs import RenderResult, reference_lines, render, roi_chromaticity  # noq
 
 __all__ = [
     "Camera", "CameraResult", "InputError", "RenderResult", "Scene", "SpectralImage", "chromaticity",
-    "diagnose", "export_iset", "fluorophore_eem", "fluorophores", "import_iset_sensor", "read_exr",
+    "diagnose", "export_iset", "export_iset_oi", "fluorophore_eem", "fluorophores", "import_iset_sensor", "read_exr",
     "read_iset_scene", "read_mat", "read_raw", "read_spectrum_file", "reference_lines", "render", "roi_chromaticity",
     "simulate_camera", "write_exr", "write_mat", "write_spectrum_mat",
 ]

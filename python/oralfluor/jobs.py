@@ -4,7 +4,7 @@ import time
 import warnings
 
 from . import _oralfluor
-from .scene import Scene
+from .scene import Scene, _error
 
 
 class RenderResult:
@@ -66,9 +66,9 @@ def render(scene, spp=None, seed=None, width=None, height=None, threads=None, pr
     """
     if not isinstance(scene, Scene):
         scene = Scene(scene)
-    callback = _TextBar() if progress is True else (progress or None)
+    callback = _TextBar() if progress is True else (None if progress is None or progress is False else progress)
     image, stats = _oralfluor._render(scene.doc, scene.file, spp=spp, seed=seed, width=width, height=height,
-                                      threads=threads or 0, aovs=aovs, fluorescence=fluorescence, callback=callback)
+                                      threads=threads, aovs=aovs, fluorescence=fluorescence, callback=callback)
     result = RenderResult(image, stats)
     if result.interrupted:
         warnings.warn(f"render interrupted: {stats['spp']} of {stats['spp_requested']} samples per pixel finished",
@@ -89,21 +89,30 @@ def reference_lines(camera, led, reflectance=None, fluorophores=None, concentrat
     Returns {"lines": [{"fluorophore", "concentration", "rg", "pure_rg", "balance_concentration",
     "visible"}, ...], "tongue_rg": [r, g]}.
     """
-    if isinstance(camera, (str, dict)) or hasattr(camera, "__fspath__"):
-        camera = _oralfluor.Camera(camera)
+    if not isinstance(camera, _oralfluor.Camera):
+        camera = _oralfluor.Camera(camera)  # a path or a dict (InputError naming "source" otherwise)
     if isinstance(led, Scene):
         led = led.excitation_spd()
-    return _oralfluor._reference_lines(camera, led, reflectance, fluorophores, list(concentrations or []), grid_step,
-                                       tuple(camera_range) if camera_range else None, field_angle_deg, sensor_angle_deg)
+    return _oralfluor._reference_lines(camera, led, reflectance, fluorophores,
+                                       [] if concentrations is None else concentrations, grid_step, camera_range,
+                                       field_angle_deg, sensor_angle_deg)
 
 
 def roi_chromaticity(camera_result, roi=None, mask=None, include_saturated=False):
-    """ROI statistics of a CameraResult (or a dict from read_raw): r, g per 2x2 cell, mean, covariance
-    and 95 % ellipse, as ``oralfluor chroma`` computes them. roi = (x, y, w, h), default the image."""
+    """ROI statistics of a CameraResult (or a dict from read_raw, or a raw.tiff path): r, g per 2x2
+    cell, mean, covariance and 95 % ellipse, as ``oralfluor chroma`` computes them.
+    roi = (x, y, w, h) in pixels, default the image; mask: a boolean array of the mosaic's shape."""
+    if isinstance(camera_result, str) or hasattr(camera_result, "__fspath__"):
+        camera_result = _oralfluor.read_raw(camera_result)
     if isinstance(camera_result, dict):
+        if not {"raw", "metadata"} <= camera_result.keys():
+            raise _error("camera_result", "expected a CameraResult, a dict from read_raw or a raw.tiff path")
         raw, meta = camera_result["raw"], camera_result["metadata"]
         cfa, black, white = meta["cfa_pattern"], meta["black_level_dn"], meta["white_level_dn"]
-    else:
+    elif isinstance(camera_result, _oralfluor.CameraResult):
         raw, cfa = camera_result.raw, camera_result.cfa
         black, white = camera_result.black_level, camera_result.white_level
+    else:
+        raise _error("camera_result", "expected a CameraResult, a dict from read_raw or a raw.tiff path, got "
+                     + type(camera_result).__name__)
     return _oralfluor.chromaticity(raw, cfa, black, white, roi=roi, mask=mask, include_saturated=include_saturated)

@@ -60,11 +60,26 @@ py::object scene_info(const py::object& doc, const std::string& name) {
   return from_json(j);
 }
 
-py::tuple render_doc(const py::object& doc, const std::string& name, std::optional<int> spp, std::optional<uint64_t> seed,
-                     std::optional<int> width, std::optional<int> height, int threads, bool aovs, bool fluorescence,
-                     const py::object& callback) {
+// The CLI's ranges for render's overrides (renderer/cli/cmd_render.cpp, --spp/--width/--height).
+SceneOverrides overrides(const py::object& spp, const py::object& seed, const py::object& width, const py::object& height) {
+  SceneOverrides ov;
+  if (auto v = opt_int_arg(spp, "spp", 1, 1 << 24)) ov.spp = int(*v);
+  ov.seed = seed_arg(seed, "seed");
+  if (auto v = opt_int_arg(width, "width", 1, 16384)) ov.width = int(*v);
+  if (auto v = opt_int_arg(height, "height", 1, 16384)) ov.height = int(*v);
+  return ov;
+}
+
+py::tuple render_doc(const py::object& doc, const std::string& name, const py::object& spp, const py::object& seed,
+                     const py::object& width, const py::object& height, const py::object& threads_in, const py::object& aovs_in,
+                     const py::object& fluorescence_in, const py::object& callback) {
+  SceneOverrides ov = overrides(spp, seed, width, height);
+  const int threads = threads_arg(threads_in);
+  const bool aovs = opt_bool_arg(aovs_in, "aovs").value_or(true);
+  const bool fluorescence = opt_bool_arg(fluorescence_in, "fluorescence").value_or(true);
+  if (!callback.is_none() && !PyCallable_Check(callback.ptr()))
+    throw InputError("", "progress", "expected True, False, None or a callable(done, total), got " + type_name(callback));
   JsonFile f = JsonFile::from(to_json(doc, name), name);
-  SceneOverrides ov{spp, seed, width, height};
   bool keyboard = false, failed = false;
   RenderOptions opt;
   opt.progress = false;  // Python shows its own progress (oralfluor.render(progress=...))
@@ -103,12 +118,12 @@ py::tuple render_doc(const py::object& doc, const std::string& name, std::option
 }  // namespace
 
 void bind_render(py::module_& m) {
-  m.def("_read_json", [](const std::string& path) { return from_json(JsonFile::load(path).doc()); }, py::arg("path"),
+  m.def("_read_json", [](const py::object& path) { return from_json(JsonFile::load(path_arg(path, "scene")).doc()); }, py::arg("path"),
         "a JSON file as Python objects (InputError with line and column for malformed JSON)");
   m.def("_scene_info", &scene_info, py::arg("doc"), py::arg("name"),
         "load a scene document (validating every field) and summarise it");
   m.def("_render", &render_doc, py::arg("doc"), py::arg("name"), py::arg("spp") = py::none(), py::arg("seed") = py::none(),
-        py::arg("width") = py::none(), py::arg("height") = py::none(), py::arg("threads") = 0, py::arg("aovs") = true,
+        py::arg("width") = py::none(), py::arg("height") = py::none(), py::arg("threads") = py::none(), py::arg("aovs") = true,
         py::arg("fluorescence") = true, py::arg("callback") = py::none(),
         "render a scene document; returns (SpectralImage, stats dict)");
 }

@@ -256,6 +256,52 @@ BenchResult closed_sphere(const BenchOptions& o) {
   return finish(b, r, o);
 }
 
+// A white furnace with a spot: inside a closed Lambertian sphere (radius 1, reflectance R) a point
+// LED at the centre shines a pbrt-style spot (30/40 degrees) at part of the wall. Every bounce after
+// the first spreads its light evenly over a sphere's wall, so the radiance at a wall point x is
+// L = R / pi [I0 S P(theta_x) / r^2 + R Phi / (A (1 - R))], Phi = I0 S int P dOmega, A = 4 pi r^2.
+// The view crosses the cone's edge: wall points outside it get no light sample at all (the LED's
+// weight there is 0, renderer/render/light_choice.h), only the many-bounce light from inside it.
+BenchResult spot_furnace(const BenchOptions& o) {
+  json j = base_scene(o, 100000);
+  j["camera"] = {{"position", {0, 0, 0}}, {"look_at", {1, 0.55, 0.1}}, {"up", {0, 0, 1}}, {"fov_deg", 90}, {"resolution", {48, 48}}};
+  j["materials"] = {{"wall", {{"type", "lambertian"}, {"reflectance", {{"type", "points"}, {"points", {{380, 0.6}, {550, 0.85}, {720, 0.7}}}}}}}};
+  j["geometry"] = {{{"type", "sphere"}, {"center", {0, 0, 0}}, {"radius", 1.0}, {"material", "wall"}}};
+  j["lights"] = {{{"type", "led"}, {"spd", 1.0}, {"radiant_intensity_W_sr", 2.0}, {"profile", spot_profile(30, 40)},
+                  {"position", {0, 0, 0}}, {"axis", {1, 0, 0}}}};
+  Rendered r = render_json(j, "spot_furnace");
+  const Scene& sc = r.scene;
+  const LedLight& led = sc.lights[0];
+  const double omega = led.profile.solid_angle_integral(), area = 4 * kPi;
+  std::vector<double> direct(sc.grid().size()), diffuse(sc.grid().size());
+  for (size_t i = 0; i < direct.size(); ++i) {
+    const double R = sc.materials[0].reflectance[i], I = led.spectral_intensity[i];
+    direct[i] = R / kPi * I;
+    diffuse[i] = R / kPi * R * I * omega / (area * (1 - R));
+  }
+  const auto db = to_bands(sc, direct), fb = to_bands(sc, diffuse);
+  const auto& c = sc.camera;
+  const int B = sc.integrator.bands.size();
+  Reference ref;
+  ref.valid.assign(size_t(c.width) * c.height, 1);
+  ref.L.assign(size_t(c.width) * c.height * B, 0.0);
+  for (int y = 0; y < c.height; ++y)
+    for (int x = 0; x < c.width; ++x)
+      for (int sy = 0; sy < 4; ++sy)
+        for (int sx = 0; sx < 4; ++sx) {
+          const glm::dvec3 d = pinhole_dir(c, x + (sx + 0.5) / 4, y + (sy + 0.5) / 4);  // the wall point, r = 1
+          const double prof = led.profile.eval(glm::dot(d, led.axis));
+          for (int b = 0; b < B; ++b) ref.L[(size_t(y) * c.width + x) * B + b] += (db[b] * prof + fb[b]) / 16.0;
+        }
+  const glm::dvec3 in_cone = led.position + led.axis, out_of_cone = glm::normalize(glm::dvec3(1, 1.2, 0.1));
+  const auto pi = pixel_of(c, in_cone), po = pixel_of(c, out_of_cone);
+  auto b = compare("spot_furnace", sc, r.result.image, ref,
+                   {{"whole", {0, 0, c.width, c.height}},
+                    {"inside the cone", {pi[0] - 3, pi[1] - 3, pi[0] + 3, pi[1] + 3}},
+                    {"outside the cone", {po[0] - 3, po[1] - 3, po[0] + 3, po[1] + 3}}});
+  return finish(b, r, o);
+}
+
 }  // namespace
 
 nlohmann::json BenchResult::to_json() const {
@@ -272,6 +318,7 @@ std::vector<BenchCaseInfo> bench_cases() {
       {"flatpatch", "the flat patch of shared/bench/README.md: R = 0.5 square under an isotropic point light 10 cm above: L = (R / pi) I h / r^3", 256},
       {"disk_led", "Lambertian disk LED (radius 15 mm, 30 mm above a patch): E = pi L a^2 / (h^2 + a^2) on axis and the parallel-plane disk formula off axis; checks MIS", 256},
       {"spot_leds", "Lambertian patch under four spot LEDs (pbrt-v4's cone shape as tables; two spectra; one a disk; one facing away) whose cones cover parts of it: L = R / pi sum_i I0_i S_i P_i cos / r^2; checks light selection by what each LED can give a point", 256},
+      {"spot_furnace", "white furnace with a spot: a point spot LED (30/40 deg) at the centre of a closed Lambertian sphere, the view across its cone's edge: L = R / pi [I0 S P(theta) + R Phi / (4 pi (1 - R))] (light selection where the LED reaches no point, many bounces, Russian roulette)", 256},
       {"closed_sphere", "camera inside a closed emitting Lambertian sphere: L = Le / (1 - R) per wavelength (multiple bounces, Russian roulette)", 256},
       {"fluorescent_patch", "fluorescent patch (R + NADH + FAD + collagen) under a tilted broadband point LED: L(em) = [R E(em) + sum_ex Phi(em, ex) E(ex) dlambda] / pi in photon units", 256},
       {"fluorescent_patch_385", "the fluorescent patch under a narrow 385 nm LED whose light lies far below the emission bands", 256},
@@ -290,6 +337,7 @@ BenchResult run_bench_case(const std::string& name, const BenchOptions& o) {
   if (name == "disk_led") return disk_led(o);
   if (name == "closed_sphere") return closed_sphere(o);
   if (name == "spot_leds") return spot_leds(o);
+  if (name == "spot_furnace") return spot_furnace(o);
   if (name == "fluorescent_patch") return fluorescent_patch(o, false);
   if (name == "fluorescent_patch_385") return fluorescent_patch(o, true);
   if (name == "fluorescent_sphere") return fluorescent_sphere(o);

@@ -14,6 +14,8 @@
 //   layered_coated_lambertian  a clear film of index n over a Lambertian base:
 //     f = (1 - F(theta_i)) (1 - F(theta_o)) rho / (pi n^2 (1 - rho r_i)), r_i = 1 - (1 - F_avg) / n^2.
 #include <chrono>
+#include <cstdio>
+#include <cstdlib>
 #include <cmath>
 #include <numeric>
 
@@ -22,6 +24,7 @@
 #include "renderer/bench/bench_check.h"
 #include "renderer/bench/bench_support.h"
 #include "renderer/bench/mcml.h"
+#include "renderer/bench/spatial_cases.h"
 #include "renderer/core/error.h"
 #include "renderer/core/json_node.h"
 #include "renderer/render/layered_bsdf.h"
@@ -507,9 +510,28 @@ std::vector<CheckCaseInfo> check_cases() {
        20000},
       {"layered_furnace", "non-absorbing three-layer stack with index steps over a white base: albedo 1; open slab: R + T = 1", 20000},
       {"layered_coated_lambertian", "clear film (n = 1.33) over a Lambertian base: the closed-form BRDF with internal reflections", 20000},
+      {"spatial_fluorescence_pencil",
+       "fluorescent two-layer slab under a normal 405 nm pencil beam: fluorescence exitance per ring from the spatial "
+       "transport's tables against an independent forward photon Monte Carlo",
+       4000000},
   };
+  for (const char* inside : {"dysplasia", "blood_spot"})
+    for (double a : {0.25, 0.5, 1.0, 2.0, 5.0})
+      for (bool fl : {false, true}) {
+        char name[80];
+        std::snprintf(name, sizeof name, "spatial_lesion_%s_%gmm%s", inside, a, fl ? "_fluorescence" : "");
+        c.push_back({name,
+                     std::string("a disc of ") + inside + " in lateral_tongue, lit uniformly: rendered " +
+                         (fl ? "fluorescence (405 nm)" : "reflectance") + " profile against a 3D forward Monte Carlo",
+                     4000000});
+      }
   for (const auto& name : mcml_case_names())
     c.push_back({"mcml_" + name, "MCML slab " + name + " (benchmarks/mcml): Rsp, Rd, Tt and absorption per layer", 1000000});
+  for (const auto& name : mcml_case_names())
+    c.push_back({"mcml_radial_" + name,
+                 "MCML slab " + name + " (benchmarks/mcml_radial): the lateral profile the spatial transport uses, "
+                 "reflectance within r, r50, r90",
+                 4000000});
   return c;
 }
 
@@ -529,7 +551,24 @@ CheckCaseResult run_check_case(const std::string& name, long long samples, uint6
   else if (name == "layered_furnace") r = furnace(samples, seed);
   else if (name == "layered_scattering_fluorescence") r = scattering_fluorescence(samples, seed);
   else if (name == "layered_coated_lambertian") r = coated_lambertian(samples, seed);
-  else if (name.rfind("mcml_", 0) == 0) {
+  else if (name == "spatial_fluorescence_pencil") r = spatial_fluorescence_pencil(samples, seed);
+  else if (name.rfind("spatial_lesion_", 0) == 0) {
+    // spatial_lesion_<preset>_<a>mm[_fluorescence]
+    std::string rest = name.substr(15);
+    const bool fl = rest.size() > 13 && rest.compare(rest.size() - 13, 13, "_fluorescence") == 0;
+    if (fl) rest.resize(rest.size() - 13);
+    const size_t us = rest.rfind('_');
+    const std::string preset = rest.substr(0, us);
+    const double a = std::atof(rest.substr(us + 1).c_str());
+    r = spatial_lesion_disc(preset, a, fl, samples, seed);
+  }
+  else if (name.rfind("mcml_radial_", 0) == 0) {
+    auto dir = mcml_radial_case_dir();
+    std::string c = name.substr(12);
+    auto runs = read_mci(dir / (c + ".mci"));
+    McmlOutput ref = read_mco(dir / (c + ".mco"));
+    r = mcml_radial_case(runs.at(0), ref, samples, seed);
+  } else if (name.rfind("mcml_", 0) == 0) {
     auto dir = mcml_case_dir();
     std::string c = name.substr(5);
     auto runs = read_mci(dir / (c + ".mci"));

@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <fstream>
+#include <set>
 #include <sstream>
 
 #include "renderer/core/error.h"
@@ -122,7 +123,10 @@ McmlOutput read_mco(const std::filesystem::path& file) {
     std::istringstream ss(body);
     std::string first;
     if (!(ss >> first)) { list = nullptr; continue; }  // blank line ends a list
-    if (std::isalpha(static_cast<unsigned char>(first[0]))) {
+    // A section starts with its name (the output file name inside InParm starts with a letter too).
+    static const std::set<std::string> kSections = {"InParm", "RAT", "A_l", "A_z", "Rd_r", "Rd_a",
+                                                    "Tt_r",   "Tt_a", "A_rz", "Rd_ra", "Tt_ra"};
+    if (kSections.count(first)) {
       section = first;
       in_parm = section == "InParm";
       list = section == "RAT" ? &rat : section == "A_l" ? &o.a_layer : section == "A_z" ? &o.a_z : section == "Rd_r" ? &o.rd_r : nullptr;

@@ -73,6 +73,24 @@ std::vector<BenchCheck> compare_with_mcml(const SlabResult& ours, const McmlOutp
 // A bench result for a slab: the checks when MCML's output is given, the numbers in `extra`.
 CheckCaseResult mcml_case(const McmlInput& in, const McmlOutput* ref, long long photons, uint64_t seed);
 
+// Lateral transport (renderer/bench/mcml_radial.cpp): the slab's lateral profiles filled as the
+// renderer's spatial transport fills them (renderer/render/spatial/stack_profiles.h), at normal
+// incidence, in 8 independent batches; the diffuse reflectance within each of `radii_mm` with its
+// standard error, and the radii holding 50 % and 90 % of all of it.
+struct RadialSlabResult {
+  long long walks = 0;
+  double seconds = 0;
+  std::vector<double> radii_mm, cumulative, cumulative_se;
+  double rd = 0, rd_se = 0, r50_mm = 0, r50_se = 0, r90_mm = 0, r90_se = 0;
+};
+RadialSlabResult simulate_slab_radial(const McmlInput& in, long long photons, uint64_t seed, const std::vector<double>& radii_mm);
+// Against MCML's Rd_r: the reflectance within r at every ring edge within 1 % of Rd (or 3 combined
+// standard errors; the worst edge is reported), r50 and r90 within 2 % (or 3 standard errors), Rd
+// within 1 %.
+std::vector<BenchCheck> compare_radial_with_mcml(const RadialSlabResult& ours, const McmlOutput& ref);
+CheckCaseResult mcml_radial_case(const McmlInput& in, const McmlOutput& ref, long long photons, uint64_t seed);
+std::filesystem::path mcml_radial_case_dir();
+
 // The MCML cases shipped with the project (benchmarks/mcml/<case>.mci + .mco).
 std::filesystem::path mcml_case_dir();
 std::vector<std::string> mcml_case_names();

@@ -6,6 +6,7 @@
 
 #include "renderer/camera/camera_color.h"
 #include "renderer/core/error.h"
+#include "renderer/core/progress.h"
 #include "renderer/image/image_file.h"
 #include "renderer/spectral/band_coverage.h"
 #include "renderer/spectral/units.h"
@@ -59,10 +60,26 @@ std::vector<std::string> lost_light_warnings(const SpectralImage& img, const Cam
   return out;
 }
 
-std::string exposure_suffix(double exposure_s) {
+namespace {
+std::string suffix_with_digits(double exposure_s, int digits) {
   char b[64];
-  std::snprintf(b, sizeof b, "_%.4gms", exposure_s * 1e3);
+  std::snprintf(b, sizeof b, "_%.*gms", digits, exposure_s * 1e3);
   return b;
+}
+}  // namespace
+
+std::string exposure_suffix(double exposure_s) { return suffix_with_digits(exposure_s, 4); }
+
+std::vector<std::string> exposure_suffixes(const std::vector<double>& exposures_s) {
+  std::vector<std::string> names;
+  for (int digits = 4; digits <= 17; ++digits) {
+    names.clear();
+    for (double t : exposures_s) names.push_back(suffix_with_digits(t, digits));
+    std::vector<std::string> sorted = names;
+    std::sort(sorted.begin(), sorted.end());
+    if (std::adjacent_find(sorted.begin(), sorted.end()) == sorted.end()) break;
+  }
+  return names;
 }
 
 namespace {
@@ -161,6 +178,7 @@ CameraRun simulate_camera(const SpectralImage& radiance, const CameraDescription
   } else {
     run.expected = expected_electrons(img, cam, run.geometry);
   }
+  throw_if_interrupted("simulating the camera (this exposure's files were not written)");
   bool noise = opt.noise.value_or(cam.noise);
   uint64_t seed = opt.seed.value_or(cam.seed);
   FixedPattern fixed = noise ? make_fixed_pattern(s, img.width, img.height) : FixedPattern{};

@@ -52,8 +52,12 @@ struct CameraRun {
   ExposureChoice exposure;
 };
 
-// "raw_8.25ms": a file-name suffix naming an exposure (bracketed runs).
+// "_8.25ms": a file-name suffix naming an exposure (bracketed runs), 4 significant digits.
 std::string exposure_suffix(double exposure_s);
+// Suffixes for the exposures of one bracket: as exposure_suffix, with as many more significant
+// digits as it takes for every exposure to get its own name (33 ms and 33.00033 ms: "_33ms" and
+// "_33.00033ms", not "_33ms" twice). Exposures must be distinct (the caller refuses repeats).
+std::vector<std::string> exposure_suffixes(const std::vector<double>& exposures_s);
 
 // The EXR's oralfluor.vfov_deg, when present and a number.
 std::optional<double> render_vfov_deg(const SpectralImage& radiance, std::vector<std::string>* warnings);

@@ -12,6 +12,7 @@
 #include "renderer/camera/psf.h"
 #include "renderer/core/csv.h"
 #include "renderer/core/error.h"
+#include "renderer/core/progress.h"
 #include "renderer/core/memory_limit.h"
 #include "renderer/image/image_file.h"
 #include "renderer/spectral/units.h"
@@ -348,6 +349,7 @@ SpectralImage blur_optical_image(const SpectralImage& img, const LensDescription
   SpectralImage out = img;
   std::vector<int> radius_first(used.size(), 0), radius_last(used.size(), 0);
   tbb::parallel_for(0, nb, [&](int b) {
+    if (interrupt_requested()) return;  // Ctrl-C: the bands left are skipped, the image dropped below
     double nm = img.band_nm[b];
     RadialPsf base = band_psf(nm, lens, o, v_mm);
     PsfKernel measured;  // a measured PSF image on the render grid
@@ -387,6 +389,7 @@ SpectralImage blur_optical_image(const SpectralImage& img, const LensDescription
     scatter_band(plane, W, H, layer, by_layer, margin, &blurred);
     for (size_t i = 0; i < np; ++i) out.data[i * nb + b] = static_cast<float>(blurred[i]);
   });
+  throw_if_interrupted("blurring the image with the lens's PSF; nothing was written");
   if (info) {
     nlohmann::json layers = nlohmann::json::array();
     for (size_t u = 0; u < used.size(); ++u) {

@@ -12,6 +12,7 @@
 
 #include "renderer/core/atomic_file.h"
 #include "renderer/core/error.h"
+#include "renderer/core/library_stderr.h"
 #include "renderer/image/image_file.h"
 
 namespace ofl {
@@ -255,8 +256,9 @@ void write_dng(const std::filesystem::path& file, const std::vector<uint16_t>& d
 RawImage read_raw(const std::filesystem::path& tiff) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(tiff, ec)) throw InputError(tiff.string(), "", "file not found");
+  LibraryStderr quiet({"libpng "});  // see library_error in renderer/image/image_file.h
   auto in = OIIO::ImageInput::open(tiff.string());
-  if (!in) throw InputError(tiff.string(), "", "cannot read image: " + printable(OIIO::geterror(), 200));
+  if (!in) throw InputError(tiff.string(), "", "cannot read image: " + library_error(OIIO::geterror(), quiet.end()));
   const OIIO::ImageSpec& spec = in->spec();
   check_image_spec(tiff, spec, sizeof(uint16_t));
   if (spec.nchannels != 1)
@@ -266,8 +268,9 @@ RawImage read_raw(const std::filesystem::path& tiff) {
   r.width = spec.width;
   r.height = spec.height;
   r.dn.resize(static_cast<size_t>(r.width) * r.height);
-  if (!in->read_image(0, 0, 0, 1, OIIO::TypeDesc::UINT16, r.dn.data()))
-    throw InputError(tiff.string(), "", "cannot read pixels: " + in->geterror());
+  const bool ok = in->read_image(0, 0, 0, 1, OIIO::TypeDesc::UINT16, r.dn.data());
+  std::vector<std::string> library = quiet.end();
+  if (!ok) throw InputError(tiff.string(), "", "cannot read pixels: " + library_error(in->geterror(), library));
   std::string description = spec.get_string_attribute("ImageDescription");
   in->close();
 

@@ -48,8 +48,12 @@ void register_bench_command(CLI::App& app) {
         auto runs = read_mci(o->mci);
         std::optional<McmlOutput> ref;
         if (!o->mco.empty()) ref = read_mco(o->mco);
-        for (const auto& in : runs)
-          rs.push_back(mcml_case(in, ref ? &*ref : nullptr, o->samples > 0 ? o->samples : in.photons, o->seed));
+        for (const auto& in : runs) {
+          const long long n = o->samples > 0 ? o->samples : in.photons;
+          rs.push_back(mcml_case(in, ref ? &*ref : nullptr, n, o->seed));
+          // With radial resolution in MCML's output: the lateral profile the spatial transport uses.
+          if (ref && ref->rd_r.size() > 1 && ref->dr_cm > 0) rs.push_back(mcml_radial_case(in, *ref, n, o->seed));
+        }
       } else {
         rs.push_back(run_check_case(o->name, o->samples, o->seed));
       }

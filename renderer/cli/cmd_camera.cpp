@@ -5,11 +5,13 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <optional>
 #include <vector>
 
 #include "renderer/camera/camera_pipeline.h"
 #include "renderer/cli/commands.h"
 #include "renderer/core/error.h"
+#include "renderer/core/progress.h"
 #include "renderer/image/spectral_exr.h"
 
 namespace ofl {
@@ -51,6 +53,16 @@ void print_camera_run(const CameraRun& run, const CameraOutputs& out, const Came
               out.preview_png.string().c_str());
 }
 
+// --bracket: every factor a finite number in range (the option's validator) and no factor twice,
+// since two runs at one exposure would write the same files.
+void check_bracket_factors(const std::vector<double>& factors) {
+  for (size_t i = 0; i < factors.size(); ++i)
+    for (size_t j = 0; j < i; ++j)
+      if (factors[i] == factors[j])
+        throw InputError("", "--bracket", "factor " + std::to_string(i + 1) + " repeats factor " + std::to_string(j + 1) + " (" +
+                                              nlohmann::json(factors[i]).dump() + "): each exposure is simulated and written once");
+}
+
 }  // namespace
 
 void register_camera_command(CLI::App& app) {
@@ -59,7 +71,7 @@ void register_camera_command(CLI::App& app) {
     std::string noise, wb = "sensor", exposure = "auto", sensor_exposure;
     double target = 0.8, percentile = 99.5;
     std::vector<double> bracket;
-    int64_t seed = -1;
+    std::optional<uint64_t> seed;
     bool json = false, no_dng = false, strict = false;
   };
   auto o = std::make_shared<Opts>();
@@ -67,7 +79,7 @@ void register_camera_command(CLI::App& app) {
   cmd->add_option("radiance", o->radiance, "spectral radiance EXR (Fichet-Pacanowski-Wilkie layout)")->required();
   cmd->add_option("--camera", o->camera, "camera description JSON (see docs/camera.md)")->required();
   cmd->add_option("-o,--out", o->out, "output folder (default: out)");
-  cmd->add_option("--seed", o->seed, "temporal noise seed (overrides the camera's)")->check(CLI::NonNegativeNumber);
+  cmd->add_option("--seed", o->seed, "temporal noise seed (overrides the camera's)")->check(uint64_validator());
   cmd->add_option("--noise", o->noise, "on or off (overrides the camera's \"noise\")")->check(CLI::IsMember({"on", "off"}));
   cmd->add_option("--wb", o->wb, "preview white balance: sensor (default), gray or none")
       ->check(CLI::IsMember({"sensor", "gray", "grey", "none"}));
@@ -76,20 +88,21 @@ void register_camera_command(CLI::App& app) {
   cmd->add_option("--exposure", o->sensor_exposure,
                   "sensor exposure: seconds (overrides the camera's sensor.exposure_s) or \"auto\" (see --exposure-target)");
   cmd->add_option("--exposure-target", o->target, "auto exposure: fraction of full well the percentile pixel reaches (default 0.8)")
-      ->check(CLI::Range(0.001, 1.0));
+      ->check(finite_range(0.001, 1.0));
   cmd->add_option("--exposure-percentile", o->percentile, "auto exposure: which pixel, as a percentile of expected electrons (default 99.5)")
-      ->check(CLI::Range(0.001, 100.0));
+      ->check(finite_range(0.001, 100.0));
   cmd->add_option("--bracket", o->bracket, "exposure bracketing: factors of the exposure, e.g. 0.25,1,4; files named by exposure (raw_8.25ms.tiff ...)")
       ->delimiter(',')
-      ->check(CLI::Range(1e-6, 1e6));
+      ->check(finite_range(1e-6, 1e6));
   cmd->add_flag("--no-dng", o->no_dng, "do not write raw.dng");
   cmd->add_flag("--strict", o->strict, "refuse (exit 2) when light or camera response lies outside the image's bands");
   cmd->add_flag("--json", o->json, "print a JSON summary on stdout");
   cmd->callback([o] {
     CameraDescription cam = load_camera(o->camera);
     SpectralImage img = read_spectral_exr(o->radiance);
+    throw_if_interrupted("reading the radiance; nothing was written");
     CameraRunOptions opt;
-    if (o->seed >= 0) opt.seed = static_cast<uint64_t>(o->seed);
+    if (o->seed) opt.seed = *o->seed;
     if (!o->noise.empty()) opt.noise = o->noise == "on";
     parse_white_balance(o->wb, &opt.preview.white_balance);
     opt.preview.auto_exposure = o->exposure == "auto";
@@ -107,14 +120,23 @@ void register_camera_command(CLI::App& app) {
     opt.auto_target = o->target;
     opt.auto_percentile = o->percentile;
     std::vector<double> factors = o->bracket.empty() ? std::vector<double>{1.0} : o->bracket;
+    check_bracket_factors(factors);
     std::vector<std::string> input_warnings;
     check_radiance(img, o->radiance, &input_warnings);
     nlohmann::json brackets = nlohmann::json::array();
+    std::vector<std::string> suffixes;
     for (size_t i = 0; i < factors.size(); ++i) {
       CameraRunOptions ok = opt;
       ok.exposure_scale = factors[i];
       CameraRun run = simulate_camera(img, cam, ok, o->radiance);
-      if (!o->bracket.empty()) ok.output_suffix = exposure_suffix(run.exposure.exposure_s);
+      // Every exposure of the bracket is the first one's times its factor: name them all at once,
+      // with the digits it takes to keep the names apart.
+      if (!o->bracket.empty() && i == 0) {
+        std::vector<double> exposures;
+        for (double f : factors) exposures.push_back(run.exposure.exposure_s / factors[0] * f);
+        suffixes = exposure_suffixes(exposures);
+      }
+      if (!o->bracket.empty()) ok.output_suffix = suffixes[i];
       for (auto& w : input_warnings) run.warnings.insert(run.warnings.begin(), w);
       run.summary["warnings"] = run.warnings;
       CameraOutputs out = write_camera_outputs(run, run.camera, ok, o->out);

@@ -131,7 +131,7 @@ void register_chroma_command(CLI::App& app) {
   cmd->add_option("--fluorophores", o->fluorophores, "comma-separated library names or EEM files (default: the whole library)");
   cmd->add_option("--concentrations", o->concentrations, "comma-separated concentrations (default: automatic per fluorophore)");
   cmd->add_option("--grid-step", o->grid_step, "wavelength step of the reference-line computation, nm (default 1)")
-      ->check(CLI::Range(0.1, 20.0));
+      ->check(finite_range(0.1, 20.0));
   cmd->add_flag("--include-saturated", o->include_saturated, "keep cells with a value at the white level");
   cmd->add_flag("--json", o->json, "print the results as JSON");
   cmd->callback([o] {

@@ -46,6 +46,10 @@ void register_diagnose_command(CLI::App& app) {
                   "spectra equal in these columns (e.g. subject,site,date) share one set of fluorophore amounts "
                   "(overrides the model; spectra)")
       ->delimiter(',');
+  cmd->add_option("--tissue-per", job->tissue_per,
+                  "fit tissue causes one set per value of these columns (e.g. subject), instrument causes one set for all "
+                  "(overrides the model; spectra)")
+      ->delimiter(',');
   cmd->callback([job] { run_diagnose(*job); });
 }
 

@@ -1,6 +1,7 @@
 // `oralfluor import-iset file.mat -o out`: brings an ISETCam object into oralfluor. A sensor
 // (sensorCreate's struct) becomes a camera file (camera.json, renderer/interop/iset_sensor.h); a
 // scene becomes a spectral radiance EXR that `oralfluor camera` can take.
+#include <cctype>
 #include <cstdio>
 #include <fstream>
 
@@ -31,6 +32,25 @@ std::string iset_kind(const std::filesystem::path& file) {
   return kind;
 }
 
+std::string lower_extension(const std::string& file) {
+  std::string e = std::filesystem::path(file).extension().string();
+  for (char& c : e) c = char(std::tolower(static_cast<unsigned char>(c)));
+  return e;
+}
+
+// A sensor becomes camera JSON, a scene a spectral EXR: an output name of the other kind is refused
+// before anything is written (a scene's EXR bytes in camera.json would load nowhere).
+void check_output_kind(const std::string& kind, const std::string& out) {
+  if (out.empty()) return;
+  const std::string ext = lower_extension(out);
+  if (kind == "scene" && ext != ".exr")
+    throw InputError(out, "-o", "the input is an ISETCam scene, which becomes a spectral EXR: name the output *.exr "
+                                "(a camera file comes from an ISETCam sensor)");
+  if (kind == "sensor" && ext != ".json")
+    throw InputError(out, "-o", "the input is an ISETCam sensor, which becomes a camera file: name the output *.json "
+                                "(a spectral EXR comes from an ISETCam scene)");
+}
+
 }  // namespace
 
 void register_import_iset_command(CLI::App& app) {
@@ -45,6 +65,7 @@ void register_import_iset_command(CLI::App& app) {
   cmd->add_flag("--json", o->json, "print a JSON summary");
   cmd->callback([o] {
     std::string kind = iset_kind(o->mat);
+    check_output_kind(kind, o->out);
     nlohmann::json summary = {{"input", o->mat}, {"kind", kind}};
     if (kind == "sensor") {
       IsetSensorImport imp = import_iset_sensor(o->mat);

@@ -7,6 +7,7 @@
 #include <memory>
 
 #include "renderer/cli/cmd_mesh_parts.h"
+#include "renderer/cli/commands.h"
 #include "renderer/core/error.h"
 #include "renderer/mesh/gltf_writer.h"
 #include "renderer/mesh/mesh_measure.h"
@@ -35,7 +36,7 @@ void register_mouth_command(CLI::App& mesh) {
   for (size_t i = 0; i < table.size(); ++i) {
     std::string flag = std::string("--") + table[i].key;
     for (auto& c : flag) if (c == '_') c = '-';
-    cmd->add_option(flag, o->values[i], table[i].doc)->check(CLI::Range(table[i].lo, table[i].hi));
+    cmd->add_option(flag, o->values[i], table[i].doc)->check(finite_range(table[i].lo, table[i].hi));
   }
   cmd->callback([o] {
     const auto& table = mouth_param_table();

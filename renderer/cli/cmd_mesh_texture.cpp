@@ -5,6 +5,7 @@
 #include <memory>
 
 #include "renderer/cli/cmd_mesh_parts.h"
+#include "renderer/cli/commands.h"
 #include "renderer/core/error.h"
 #include "renderer/mesh/gltf_reader.h"
 #include "renderer/mesh/obj_reader.h"
@@ -25,12 +26,12 @@ void register_texture_command(CLI::App& mesh) {
   cmd->add_option("--prefix", o->prefix, "file name prefix");
   cmd->add_option("--size", o->p.size, "texels per side")->check(CLI::Range(16, 8192));
   cmd->add_option("--porphyrin-center-frac", o->p.porphyrin_center_frac, "patch centre, fraction of the length back from the tip")
-      ->check(CLI::Range(0.0, 1.0));
-  cmd->add_option("--porphyrin-radius-x-m", o->p.porphyrin_radius_x_m, "patch radius along the tongue (m)")->check(CLI::PositiveNumber);
-  cmd->add_option("--porphyrin-radius-y-m", o->p.porphyrin_radius_y_m, "patch radius across the tongue (m)")->check(CLI::PositiveNumber);
+      ->check(finite_range(0.0, 1.0));
+  cmd->add_option("--porphyrin-radius-x-m", o->p.porphyrin_radius_x_m, "patch radius along the tongue (m)")->check(finite_positive());
+  cmd->add_option("--porphyrin-radius-y-m", o->p.porphyrin_radius_y_m, "patch radius across the tongue (m)")->check(finite_positive());
   cmd->add_option("--lesion-center-frac", o->p.lesion_center_frac, "lesion centre, fraction of the length back from the tip")
-      ->check(CLI::Range(0.0, 1.0));
-  cmd->add_option("--lesion-radius-m", o->p.lesion_radius_m, "lesion radius (m)")->check(CLI::PositiveNumber);
+      ->check(finite_range(0.0, 1.0));
+  cmd->add_option("--lesion-radius-m", o->p.lesion_radius_m, "lesion radius (m)")->check(finite_positive());
   cmd->add_option("--lesion-side", o->p.lesion_side, "+1 the patient's left border, -1 the right")->check(CLI::IsMember({-1.0, 1.0}));
   cmd->add_flag("--json", o->json, "print the report (tongue frame, UV regions) as JSON");
   cmd->callback([o] {

@@ -12,6 +12,7 @@
 #include "renderer/core/atomic_file.h"
 #include "renderer/cli/commands.h"
 #include "renderer/core/error.h"
+#include "renderer/core/progress.h"
 #include "renderer/image/png_writer.h"
 #include "renderer/image/spectral_exr.h"
 #include "renderer/render/render_job.h"
@@ -71,6 +72,7 @@ void register_render_command(CLI::App& app) {
     auto tl = std::chrono::steady_clock::now();
     Scene scene = load_scene(o->scene, ov);
     double load_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - tl).count();
+    throw_if_interrupted("loading the scene; nothing was rendered");
     std::filesystem::path out = o->out;
     std::error_code ec;
     std::filesystem::create_directories(out, ec);
@@ -110,6 +112,7 @@ void register_render_command(CLI::App& app) {
                         {"camera_rays", s.rays.camera},
                         {"extension_rays", s.rays.extension},
                         {"shadow_rays", s.rays.shadow},
+                        {"probe_rays", s.rays.probe},
                         {"rays_per_second", s.rays_per_second()},
                         {"relative_noise", s.relative_noise},
                         {"radiance_exr", (out / "radiance.exr").string()},

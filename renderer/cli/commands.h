@@ -15,6 +15,12 @@ GlobalOptions& global_options();
 // own conversion would turn "-1" and "18446744073709551616" into 18446744073709551615 silently.
 CLI::Validator uint64_validator();
 
+// For real-valued options: a finite number from `lo` to `hi`. CLI11's Range and PositiveNumber
+// compare with < and >, which every comparison with NaN fails, so "nan" passed them.
+CLI::Validator finite_range(double lo, double hi);
+// A finite number above zero.
+CLI::Validator finite_positive();
+
 void register_render_command(CLI::App& app);
 void register_bench_command(CLI::App& app);
 void register_camera_command(CLI::App& app);
@@ -25,5 +31,6 @@ void register_fluorophores_command(CLI::App& app);
 void register_mesh_command(CLI::App& app);
 void register_export_iset_command(CLI::App& app);
 void register_import_iset_command(CLI::App& app);
+void register_view_command(CLI::App& app);
 
 }  // namespace ofl

@@ -29,6 +29,7 @@ int main(int argc, char** argv) {
   ofl::register_mesh_command(app);
   ofl::register_export_iset_command(app);
   ofl::register_import_iset_command(app);
+  ofl::register_view_command(app);
 
   std::unique_ptr<tbb::global_control> threads;
   app.parse_complete_callback([&] {

@@ -45,9 +45,11 @@ std::string trim(const std::string& s) {
   return a == std::string::npos ? std::string() : s.substr(a, b - a + 1);
 }
 
+// Names match without leading and trailing spaces (a scene may quote ISETCam's padded names).
 int find_column(const std::vector<std::string>& header, const std::string& name) {
+  const std::string want = trim(name);
   for (size_t i = 0; i < header.size(); ++i)
-    if (header[i] == name) return static_cast<int>(i);
+    if (trim(header[i]) == want) return static_cast<int>(i);
   return -1;
 }
 

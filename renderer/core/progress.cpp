@@ -6,6 +6,8 @@
 #include <cstdio>
 #include <cstdlib>
 
+#include "renderer/core/error.h"
+
 namespace ofl {
 namespace {
 std::atomic<bool> g_interrupt{false};
@@ -85,5 +87,8 @@ void install_interrupt_handler() {
 }
 bool interrupt_requested() { return g_interrupt.load(std::memory_order_relaxed); }
 void clear_interrupt() { g_interrupt = false; }
+void throw_if_interrupted(const char* doing) {
+  if (interrupt_requested()) throw Interrupted(std::string("while ") + doing);
+}
 
 }  // namespace ofl

@@ -36,5 +36,9 @@ class ProgressBar {
 void install_interrupt_handler();
 bool interrupt_requested();
 void clear_interrupt();  // for tests
+// Throws Interrupted("while <doing>") (printed as "interrupted: while <doing>") once SIGINT/SIGTERM has arrived: the check that
+// phases with nothing to save (loading, checking, tabulating) make between steps, so the first
+// Ctrl-C takes effect within a step rather than after the whole phase.
+void throw_if_interrupted(const char* doing);
 
 }  // namespace ofl

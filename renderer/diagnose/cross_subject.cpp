@@ -12,7 +12,26 @@ namespace ofl {
 
 namespace {
 
-// The fitted state with its causes re-indexed into the target's candidate list (by id).
+// The value of the target's parameter `name` from the fitted cause's parameters: the same name,
+// or for a per-tissue copy ("oxy_uM_cm@Z") of a tissue the fit did not see, the mean of the
+// fitted tissues' copies (as a held-out subject is predicted in cross-validation).
+bool carried_value(const std::string& name, const std::vector<ParamSpec>& from, const std::vector<double>& theta, double& v) {
+  for (size_t j = 0; j < from.size(); ++j)
+    if (from[j].name == name) { v = theta[j]; return true; }
+  const auto at = name.find('@');
+  if (at == std::string::npos) return false;
+  const std::string base = name.substr(0, at + 1);
+  double m = 0;
+  int n = 0;
+  for (size_t j = 0; j < from.size(); ++j)
+    if (from[j].name.compare(0, base.size(), base) == 0) { m += theta[j]; ++n; }
+  if (n == 0) return false;
+  v = m / n;
+  return true;
+}
+
+// The fitted state with its causes re-indexed into the target's candidate list (by id) and its
+// parameters carried by name.
 ModelState state_for(const SpectraProblem& from, const ModelState& s, const SpectraProblem& to) {
   ModelState out = s;
   for (auto& c : out.causes) {
@@ -21,9 +40,13 @@ ModelState state_for(const SpectraProblem& from, const ModelState& s, const Spec
     for (size_t j = 0; j < to.candidates().size(); ++j)
       if (to.candidates()[j].id == id) k = static_cast<int>(j);
     if (k < 0) throw InputError("--predict", id, "the predicted spectra's model has no candidate of this id (other fit range?)");
-    if (to.candidates()[k].params.size() != c.theta.size())
-      throw InputError("--predict", id, "the predicted spectra cover another wavelength range, so this cause has other parameters");
+    const auto& tp = to.candidates()[k].params;
+    std::vector<double> theta(tp.size());
+    for (size_t j = 0; j < tp.size(); ++j)
+      if (!carried_value(tp[j].name, from.candidates()[c.candidate].params, c.theta, theta[j]))
+        throw InputError("--predict", id, "the predicted spectra cover another wavelength range, so this cause has other parameters");
     c.candidate = k;
+    c.theta = std::move(theta);
   }
   return out;
 }

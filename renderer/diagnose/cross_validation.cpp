@@ -3,9 +3,11 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <map>
+#include <stdexcept>
 
 #include "renderer/core/error.h"
 #include "renderer/core/progress.h"
@@ -113,6 +115,7 @@ CvRun cross_validate(const DiagnoseProblem& p, const std::vector<ModelState>& st
     std::vector<int> train, test;
     for (int i = 0; i < p.num_items(); ++i) (folds.of_item[i] == g ? test : train).push_back(i);
     GlobalFit fit = fit_global(p, starts[g], train, grid_cause, fo);
+    p.fill_unfitted(fit.state, train);
     run.fold_states[g] = fit.state;
     auto fits = p.evaluate(fit.state, test);
     for (size_t k = 0; k < test.size(); ++k) {
@@ -133,6 +136,9 @@ CvRun cross_validate(const DiagnoseProblem& p, const std::vector<ModelState>& st
 
 GroupGain group_gain(const DiagnoseProblem& p, const CvRun& a, const CvRun& b, const std::vector<int>& items,
                      const std::string& name) {
+  const size_t M = static_cast<size_t>(p.num_items());
+  if (a.heldout.size() != M || b.heldout.size() != M)
+    throw std::logic_error("group_gain: a cross-validation run without a held-out fit for every item (" + name + ")");
   GroupGain g;
   g.value = name;
   g.items = static_cast<int>(items.size());
@@ -352,6 +358,7 @@ CandidateTrial judge(const DiagnoseProblem& p, int cand, const CvRun& before, Cv
                        effect >= min_effect_of(p.candidates()[cand], o, false) * nf.rmse && t.at_bound.empty() &&
                        t.implausible.empty();
   bool statistics_ok = pooled || !t.carried_by.empty();
+  t.statistics_ok = statistics_ok;
   t.accepted = statistics_ok && t.at_bound.empty() && t.implausible.empty();
   if (t.accepted)
     t.verdict = t.carried_by.empty() ? "held-out gain beats the noise"
@@ -383,6 +390,15 @@ std::vector<GroupGain> breakdown(const DiagnoseProblem& p, const CvRun& a, const
   std::vector<GroupGain> out;
   for (auto& v : order) out.push_back(group_gain(p, a, b, by[v], v));
   return out;
+}
+
+// The trial of candidate c on the baseline alone (step 1), or nullptr when c was not tried there:
+// a cause that needs another in the model first (the emission shift of an extra fluorophore) is
+// first tried at a later step and has no "alone on the baseline" numbers.
+const CandidateTrial* solo_trial(const std::vector<CandidateTrial>& step1, int c) {
+  for (auto& s : step1)
+    if (s.candidate == c) return &s;
+  return nullptr;
 }
 
 bool requirement_met(const DiagnoseProblem& p, const ModelState& s, int c) {
@@ -476,6 +492,116 @@ void accept_unlike_any_instrument(const DiagnoseProblem& p, std::vector<Candidat
   }
 }
 
+// The best-fitting trial among those whose held-out statistics pass (largest gain beyond its
+// optimism), when it is not accepted because an estimate is implausible or rests on a bound.
+// Trials turned down only in favour of an alternative (one width for all, a per-fluorophore shape)
+// are not "set aside": their rival is as good.
+const CandidateTrial* best_set_aside(const std::vector<CandidateTrial>& trials) {
+  const CandidateTrial* best = nullptr;
+  for (auto& t : trials)
+    if (t.statistics_ok && (!best || t.mean_gain - t.optimism > best->mean_gain - best->optimism)) best = &t;
+  if (!best || best->accepted || (best->implausible.empty() && best->at_bound.empty())) return nullptr;
+  return best;
+}
+
+// Plausibility never silently swaps in a worse explanation: once the best-fitting trial is set
+// aside, another is accepted only if it does not predict the held-out items significantly worse
+// (z standard errors of the per-item difference of held-out MSE, the extra amplitudes' optimism
+// charged). Returns the set-aside trial (nullptr when there is none).
+const CandidateTrial* hold_to_set_aside(const DiagnoseProblem& p, std::vector<CandidateTrial>& trials, double z) {
+  const CandidateTrial* aside = best_set_aside(trials);
+  if (!aside) return nullptr;
+  for (auto& t : trials) {
+    if (!t.accepted) continue;
+    auto [m, se] = gain_difference(*aside, t);
+    m -= aside->optimism - t.optimism;
+    if (m > z * se) {
+      t.accepted = false;
+      t.verdict = "significantly worse held out than " + p.candidates()[aside->candidate].id + ", which was set aside (" +
+                  fmtg(m) + " +/- " + fmtg(se) + " in held-out MSE)";
+    }
+  }
+  return aside;
+}
+
+// A set-aside trial in words: its parameters as the mean of the fold fits (their spread as the
+// uncertainty), its derived quantities from the held-out fits.
+SetAside describe_set_aside(const DiagnoseProblem& p, const CandidateTrial& t, int step) {
+  SetAside a;
+  a.step = step;
+  a.candidate = t.candidate;
+  a.rmse_before = t.rmse_before;
+  a.rmse_after = t.rmse_after;
+  a.reason = !t.implausible.empty() ? "implausible: " + t.implausible[0] : "on a bound: " + t.at_bound[0];
+  const CandidateSpec& c = p.candidates()[t.candidate];
+  std::vector<double> mean(c.params.size(), 0.0), sd(c.params.size(), 0.0);
+  std::vector<const std::vector<double>*> th;
+  for (auto& st : t.cv.fold_states)
+    if (!st.causes.empty() && st.causes.back().candidate == t.candidate) th.push_back(&st.causes.back().theta);
+  for (size_t k = 0; k < mean.size() && !th.empty(); ++k) {
+    for (auto* v : th) mean[k] += (*v)[k] / th.size();
+    for (auto* v : th) sd[k] += ((*v)[k] - mean[k]) * ((*v)[k] - mean[k]) / th.size();
+    sd[k] = std::sqrt(sd[k]);
+  }
+  a.words = p.plain_words(c, mean, sd, p.derived_params(c, t.cv.heldout, all_items(p)));
+  return a;
+}
+
+// The verdict's opening: every step at which the best-fitting candidate was set aside.
+std::string set_aside_verdict(const DiagnoseProblem& p, const std::vector<SetAside>& aside) {
+  std::string v;
+  for (auto& a : aside) {
+    v += a.step == 1 ? "the data are best explained by " : "at step " + std::to_string(a.step) + " the data are best explained further by ";
+    v += p.candidates()[a.candidate].id + " (held-out RMSE " + fmtg(a.rmse_before) + " -> " + fmtg(a.rmse_after) + "), set aside as " +
+         a.reason + (a.instead.empty() ? "; nothing else is accepted in its place" : "; accepted in its place, not significantly worse: " + a.instead) +
+         "; ";
+  }
+  return v;
+}
+
+// One instrument, checked: the final state refitted on each value of `column` alone, each accepted
+// instrument cause's parameters there next to the joint fit's (SelectionOptions::check_by).
+std::vector<InstrumentCheck> instrument_checks(const DiagnoseProblem& p, const Diagnosis& dg, const std::string& column) {
+  std::vector<InstrumentCheck> out;
+  if (column.empty()) return out;
+  bool any_instrument = false;
+  for (auto& c : dg.causes) any_instrument = any_instrument || (p.candidates()[c.candidate].instrument && !c.theta.empty());
+  if (!any_instrument) return out;
+  std::map<std::string, std::vector<int>> by;
+  for (int i = 0; i < p.num_items(); ++i)
+    if (!p.condition(i, column).empty()) by[p.condition(i, column)].push_back(i);
+  if (by.size() < 2) return out;
+  std::vector<std::pair<std::string, ModelState>> fits;
+  for (auto& [v, items] : by) {
+    ModelState s = fit_global(p, dg.final_fit.state, items, -1, trial_fit_options()).state;
+    p.fill_unfitted(s, items);
+    fits.push_back({v, std::move(s)});
+  }
+  const double K = static_cast<double>(by.size());
+  for (size_t k = 0; k < dg.causes.size(); ++k) {
+    const CauseResult& c = dg.causes[k];
+    const CandidateSpec& spec = p.candidates()[c.candidate];
+    if (!spec.instrument) continue;
+    for (size_t j = 0; j < c.theta.size() && j < spec.params.size(); ++j) {
+      InstrumentCheck ic;
+      ic.cause_id = spec.id;
+      ic.param = spec.params[j].name;
+      ic.joint = c.theta[j];
+      ic.uncertainty = c.uncertainty[j];
+      double lo = 1e300, hi = -1e300;
+      for (auto& [v, s] : fits) {
+        double x = s.causes[k].theta[j];
+        ic.by_value.push_back({v, x});
+        lo = std::min(lo, x);
+        hi = std::max(hi, x);
+      }
+      ic.disagree = hi - lo > 3 * std::sqrt(2 * K) * ic.uncertainty;
+      out.push_back(std::move(ic));
+    }
+  }
+  return out;
+}
+
 std::vector<std::string> final_params_at_bound(const CandidateSpec& c, const std::vector<double>& theta) {
   std::vector<std::string> out;
   for (size_t k = 0; k < c.params.size() && k < theta.size(); ++k) {
@@ -565,6 +691,7 @@ Diagnosis diagnose(const DiagnoseProblem& p, const SelectionOptions& o) {
   std::vector<CandidateTrial> solo;
   const int C = static_cast<int>(p.candidates().size());
   for (int step = 1; step <= o.max_causes; ++step) {
+    throw_if_interrupted("diagnosing (looking for causes); no report was written");
     std::vector<int> todo;
     for (int c = 0; c < C; ++c)
       if (!full.state.has(c) && requirement_met(p, full.state, c)) todo.push_back(c);
@@ -575,16 +702,22 @@ Diagnosis diagnose(const DiagnoseProblem& p, const SelectionOptions& o) {
     floor.instrument_mismatch = nearly_fits(lack_of_fit(p, full, dg.floor), o);
     std::vector<CvRun> runs(todo.size());
     ProgressBar bar("diagnose: cause " + std::to_string(step) + ", candidates", static_cast<int64_t>(todo.size()));
+    std::atomic<int64_t> tried{0};
+    std::atomic<bool> stop{false};  // SelectionOptions::progress said stop
     auto run_one = [&](size_t k) {
+      if (stop || interrupt_requested()) return;  // the step ends at the check after the candidates
       std::vector<ModelState> st;
       for (int g = 0; g < G; ++g) st.push_back(with_cause(p, current.fold_states[g], todo[k]));
       runs[k] = cross_validate(p, st, static_cast<int>(st[0].causes.size()) - 1, dg.folds, false);
       bar.advance();
+      if (o.progress && !o.progress(step, ++tried, static_cast<int64_t>(todo.size()))) stop = true;
     };
     if (o.parallel)
       tbb::parallel_for(size_t(0), todo.size(), run_one);
     else
       for (size_t k = 0; k < todo.size(); ++k) run_one(k);
+    if (stop) throw Interrupted("diagnose stopped by its progress callback");
+    throw_if_interrupted("diagnosing (looking for causes); no report was written");
     std::vector<CandidateTrial> trials;
     for (size_t k = 0; k < todo.size(); ++k) trials.push_back(judge(p, todo[k], current, std::move(runs[k]), dg.folds, floor, o));
     if (step == 1) solo = trials;
@@ -594,11 +727,14 @@ Diagnosis diagnose(const DiagnoseProblem& p, const SelectionOptions& o) {
     if (full.state.causes.empty()) accept_unlike_any_instrument(p, trials, o.z);
     prefer_single_width(p, trials, o.z);
     reject_dominated_global_broadening(p, trials);
+    const CandidateTrial* aside = hold_to_set_aside(p, trials, o.z);
+    if (aside) dg.set_aside.push_back(describe_set_aside(p, *aside, step));
     int best = -1;
     for (size_t k = 0; k < trials.size(); ++k)
       if (trials[k].accepted &&
           (best < 0 || trials[k].mean_gain - trials[k].optimism > trials[best].mean_gain - trials[best].optimism))
         best = static_cast<int>(k);
+    if (aside && best >= 0) dg.set_aside.back().instead = p.candidates()[trials[best].candidate].id;
     dg.steps.push_back(trials);
     if (best < 0) break;
     CandidateTrial& t = dg.steps.back()[best];
@@ -606,11 +742,10 @@ Diagnosis diagnose(const DiagnoseProblem& p, const SelectionOptions& o) {
     cr.candidate = t.candidate;
     cr.step = step;
     cr.trial = t;
-    for (auto& s : solo)
-      if (s.candidate == t.candidate) cr.solo = s;
+    if (const CandidateTrial* s = solo_trial(solo, t.candidate)) cr.solo = *s;
     if (!o.report_by.empty()) {
       cr.by_report = breakdown(p, current, t.cv, o.report_by, nullptr);
-      cr.solo_by_report = breakdown(p, dg.baseline_cv, cr.solo.cv, o.report_by, nullptr);
+      if (cr.solo.candidate >= 0) cr.solo_by_report = breakdown(p, dg.baseline_cv, cr.solo.cv, o.report_by, nullptr);
     }
     ModelState next = with_cause(p, full.state, t.candidate);
     full = fit_global(p, next, all, static_cast<int>(next.causes.size()) - 1);
@@ -657,6 +792,7 @@ Diagnosis diagnose(const DiagnoseProblem& p, const SelectionOptions& o) {
     cr.words = p.plain_words(c, cr.theta, cr.uncertainty, cr.derived);
   }
 
+  dg.instrument_check = instrument_checks(p, dg, o.check_by);
   dg.rmse_baseline_heldout = dg.baseline_cv.rmse();
   dg.rmse_extended_heldout = dg.final_cv.rmse();
   GroupGain overall = group_gain(p, dg.baseline_cv, dg.final_cv, all, "all");
@@ -670,13 +806,15 @@ Diagnosis diagnose(const DiagnoseProblem& p, const SelectionOptions& o) {
       for (auto& t : dg.steps[0])
         if (!b || t.mean_gain - t.threshold > b->mean_gain - b->threshold) b = &t;
     dg.verdict = "no significant effect: no candidate cause improves the held-out prediction by more than the noise allows";
-    if (b)
+    if (!dg.set_aside.empty()) dg.verdict = "no cause accepted";  // the set-aside one did; the verdict opens with it
+    else if (b)
       dg.verdict += " (closest: " + p.candidates()[b->candidate].id + ", gain " + fmtg(b->mean_gain) + " vs threshold " +
                     fmtg(b->threshold) + ")";
   } else {
     dg.verdict = std::to_string(dg.causes.size()) + " cause(s) found:";
     for (auto& c : dg.causes) dg.verdict += " " + p.candidates()[c.candidate].id;
   }
+  dg.verdict = set_aside_verdict(p, dg.set_aside) + dg.verdict;
   if (dg.instrument_mismatch)
     dg.verdict += "; instrument mismatch: the baseline misses by only " + fmtg(dg.baseline_lack_of_fit) +
                   " x the noise floor and " + fmtg(100 * dg.common_shape_share) +

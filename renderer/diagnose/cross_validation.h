@@ -18,6 +18,8 @@
 // Otherwise: "no significant effect".
 #pragma once
 #include <cmath>
+#include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -51,7 +53,16 @@ struct SelectionOptions {
   double mismatch_max_lack_of_fit = 2.0;
   double mismatch_min_common_share = 0.5;
   double mismatch_tissue_min_effect = 1.0;
+  // One instrument: the accepted instrument causes are fitted jointly on every item; as a check
+  // only, the final model is refitted on each value of this column alone (e.g. each subject) and
+  // the instrument parameters found there are reported next to the joint ones ("" or a column the
+  // data lack: no check).
+  std::string check_by = "subject";
   bool parallel = true;
+  // For library callers (the Python module): called after each candidate cause is tried, from any
+  // worker thread, with (cause step, candidates done, candidates in this step). Returning false
+  // stops the diagnosis: the candidates in flight finish, then Interrupted is thrown.
+  std::function<bool(int step, int64_t done, int64_t total)> progress;
 };
 
 struct NoiseFloor {
@@ -109,6 +120,8 @@ struct CandidateTrial {
   // below the noise floor on data that nearly fit): it is still named if it predicts the held-out
   // data significantly better than every instrument cause tried at the same step.
   bool below_floor_only = false;
+  // Its held-out statistics pass (pooled or on a carrying subset), whatever else is said of it.
+  bool statistics_ok = false;
   std::string verdict;
   CvRun cv;
 };
@@ -126,6 +139,30 @@ struct CauseResult {
   std::string words;
 };
 
+// A candidate that predicted the held-out data best at a step but was set aside as implausible or
+// resting on a bound. Plausibility never silently swaps in a worse explanation: the verdict names
+// it first, and another candidate is accepted at that step only if it is not significantly worse
+// held out.
+struct SetAside {
+  int step = 0;
+  int candidate = -1;
+  double rmse_before = 0, rmse_after = 0;
+  std::string reason;   // the implausible estimate or the bound
+  std::string words;    // the cause in plain words with its estimates (mean of the fold fits)
+  std::string instead;  // id of the candidate accepted at that step instead ("" = none)
+};
+
+// One instrument parameter fitted jointly and, as a check, on each value of a column alone.
+struct InstrumentCheck {
+  std::string cause_id, param;
+  double joint = 0, uncertainty = 0;
+  std::vector<std::pair<std::string, double>> by_value;  // (value of check_by, fitted on its items alone)
+  // The per-value fits differ by more than 3 standard errors of a fit on one value (the joint
+  // uncertainty x sqrt(number of values), x sqrt 2 for a difference): the joint cause averages
+  // something that differs between them, which one instrument should not.
+  bool disagree = false;
+};
+
 struct Diagnosis {
   SelectionOptions options;
   NoiseFloor floor;
@@ -134,6 +171,8 @@ struct Diagnosis {
   GlobalFit baseline_fit, final_fit;
   std::vector<CauseResult> causes;
   std::vector<std::vector<CandidateTrial>> steps;  // every candidate tried at every step
+  std::vector<SetAside> set_aside;                 // best-fitting candidates set aside, per step
+  std::vector<InstrumentCheck> instrument_check;   // accepted instrument causes per value of check_by
   double rmse_baseline_heldout = 0, rmse_extended_heldout = 0;
   double ve_baseline_heldout = 0, ve_extended_heldout = 0;
   std::vector<GroupGain> by_report, by_fold;

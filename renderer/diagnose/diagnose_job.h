@@ -19,4 +19,14 @@ struct DiagnoseOutcome {
 
 DiagnoseOutcome run_diagnose_job(const DiagnoseJob& job);
 
+// --fit-on / --predict: the selected rows split into those the causes are selected and fitted on
+// and those predicted with the fitted global parameters fixed (cross_subject.h). Errors name the
+// option: a malformed filter, a column the index lacks, a filter that takes no row, nothing left
+// to predict, and rows asked to be predicted that are also fitted (an in-sample fit presented as
+// a prediction of other subjects).
+struct FitAndPredict {
+  SpectraSet fit, predict;
+};
+FitAndPredict split_fit_and_predict(SpectraSet selected, const DiagnoseJob& job);
+
 }  // namespace ofl

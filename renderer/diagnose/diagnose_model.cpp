@@ -59,8 +59,9 @@ void parse_selection(const JsonNode& r, DiagnoseModelFile& m) {
   if (auto g = r.find("replicates")) m.selection.replicate_columns = strings(*g);
   m.selection.report_by = r.string_or("report_by", "");
   if (auto s = r.find("selection")) {
-    s->check_keys({"z", "max_causes", "min_fold_fraction", "min_effect_to_noise", "subset_columns"});
+    s->check_keys({"z", "max_causes", "min_fold_fraction", "min_effect_to_noise", "subset_columns", "check_by"});
     if (auto sc = s->find("subset_columns")) m.selection.subset_columns = strings(*sc);
+    m.selection.check_by = s->string_or("check_by", m.selection.check_by);
     m.selection.z = s->number_or("z", m.selection.z, 0.0, 100.0);
     m.selection.max_causes = s->integer_or("max_causes", m.selection.max_causes, 0, 100);
     m.selection.min_fold_fraction = s->number_or("min_fold_fraction", m.selection.min_fold_fraction, 0.0, 0.99);
@@ -86,7 +87,8 @@ void warn_if_grid_misses_the_edge(const JsonNode& r, const SpectraModel& s) {
 void parse_spectra(const JsonNode& r, DiagnoseModelFile& m) {
   r.check_keys({"format", "kind", "description", "select", "file_column", "groups", "replicates", "report_by", "selection",
                 "fit_range_nm", "grid_step_nm", "instrument_fwhm_nm", "fluorophores", "lights", "excitation_filter",
-                "emission_filter", "leak", "candidates", "plausible", "layered_tissue", "shared_concentrations"});
+                "emission_filter", "leak", "candidates", "plausible", "layered_tissue", "shared_concentrations", "tissue_per",
+                "instrument_column"});
   SpectraModel& s = m.spectra;
   s.base_dir = std::filesystem::path(m.file).parent_path();
   m.file_column = r.string_or("file_column", "csv");
@@ -154,6 +156,8 @@ void parse_spectra(const JsonNode& r, DiagnoseModelFile& m) {
   }
   if (auto l = r.find("layered_tissue")) s.layered = parse_layered_cause(*l);
   if (auto sc = r.find("shared_concentrations")) s.shared_by = strings(*sc);
+  if (auto tp = r.find("tissue_per")) s.tissue_per = strings(*tp);
+  s.instrument_column = r.string_or("instrument_column", "");
   if (auto pl = r.find("plausible")) {
     // {"stray_light": {"fraction": [0, 0.02]}, "extra_fluorophore:teeth": {"mean_fraction": [0.005, 0.05]}}
     for (auto& cand : pl->keys()) {
@@ -216,15 +220,18 @@ DiagnoseModelFile load_diagnose_model(const std::filesystem::path& file) {
   return m;
 }
 
-RowFilter parse_where(const std::string& s) {
+RowFilter parse_where(const std::string& s, const std::string& option, const std::string& separators) {
   auto eq = s.find('=');
-  if (eq == std::string::npos || eq == 0) throw InputError("command line", "--where", "expected column=value, got \"" + s + "\"");
+  if (eq == std::string::npos || eq == 0) {
+    std::string form = separators.find(',') != std::string::npos ? "column=a,b" : "column=value";
+    throw InputError("command line", option, "expected " + form + ", got \"" + s + "\"");
+  }
   RowFilter f;
   f.column = s.substr(0, eq);
   std::string rest = s.substr(eq + 1);
   size_t a = 0;
   for (;;) {
-    size_t b = rest.find('|', a);
+    size_t b = rest.find_first_of(separators, a);
     f.values.push_back(rest.substr(a, b == std::string::npos ? std::string::npos : b - a));
     if (b == std::string::npos) break;
     a = b + 1;
@@ -238,6 +245,7 @@ nlohmann::json DiagnoseJob::to_json() const {
   j["max_causes"] = max_causes ? nlohmann::json(*max_causes) : nlohmann::json(nullptr);
   j["report_by"] = report_by;
   j["shared_concentrations"] = shared_concentrations;
+  j["tissue_per"] = tissue_per;
   j["fit_on"] = fit_on;
   j["predict"] = predict;
   return j;

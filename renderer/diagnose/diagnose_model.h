@@ -3,6 +3,7 @@
 #pragma once
 #include <filesystem>
 #include <optional>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -41,10 +42,16 @@ struct DiagnoseJob {
   std::string fit_on;                      // "column=a,b": select and fit on these rows only...
   std::string predict;                     // ...and predict these ("" = every other row)
   std::vector<std::string> shared_concentrations;  // overrides the model's shared_concentrations (spectra)
+  // Library callers (the Python module): SelectionOptions::progress, called as causes are tried;
+  // returning false stops the run (Interrupted). Not part of to_json.
+  std::function<bool(int step, int64_t done, int64_t total)> progress;
+  std::vector<std::string> tissue_per;             // overrides the model's tissue_per (spectra)
   nlohmann::json to_json() const;
 };
 
-// "column=value" (several values: "column=a|b") -> RowFilter; InputError on a malformed string.
-RowFilter parse_where(const std::string& s);
+// "column=value" (several values: "column=a|b") -> RowFilter; InputError naming `option` on a
+// malformed string. `separators`: the characters between values ("|" for --where; --fit-on and
+// --predict take "a,b" too).
+RowFilter parse_where(const std::string& s, const std::string& option = "--where", const std::string& separators = "|");
 
 }  // namespace ofl

@@ -26,6 +26,10 @@ struct ParamSpec {
   double hi = std::numeric_limits<double>::infinity();
   double fd_step = 1e-3;    // finite-difference step for the Jacobian
   std::vector<double> starts;  // values tried before local refinement (empty: init only)
+  // Index, within its cause, of the parameter whose start value this one takes (-1: its own
+  // starts). A parameter copied per subject starts where the first subject's copy starts, so the
+  // start grid stays the product over one subject's parameters.
+  int tie_start = -1;
 };
 
 struct CandidateSpec {
@@ -111,6 +115,10 @@ class DiagnoseProblem {
                                                    const std::vector<int>& items) const {
     return {};
   }
+  // Global parameters that `fitted_items` do not constrain (a per-subject tissue parameter of a
+  // subject outside them) set from those they do; called after every fit on a subset of the
+  // items, so that a held-out subject is predicted from the others.
+  virtual void fill_unfitted(ModelState& state, const std::vector<int>& fitted_items) const {}
   // The cause in plain words with its estimates, e.g. "blood absorbs the emission: ...".
   virtual std::string plain_words(const CandidateSpec& c, const std::vector<double>& theta,
                                   const std::vector<double>& theta_uncertainty,

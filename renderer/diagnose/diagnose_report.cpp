@@ -105,6 +105,13 @@ std::vector<DepthRow> depth_comparison(const DiagnoseProblem& p, const Diagnosis
   return rows;
 }
 
+// "0.359 -> 0.119" for a cause also tried alone on the baseline; a cause that needs another in the
+// model first (requires_id) was not.
+std::string solo_text(const DiagnoseProblem& p, const CauseResult& c) {
+  if (c.solo.candidate >= 0) return f3(c.solo.rmse_before) + " -> " + f3(c.solo.rmse_after);
+  return "not tried (needs " + p.candidates()[c.candidate].requires_id + " in the model first)";
+}
+
 }  // namespace
 
 nlohmann::json diagnosis_json(const DiagnoseProblem& p, const Diagnosis& d, const ReportContext& ctx) {
@@ -175,17 +182,30 @@ nlohmann::json diagnosis_json(const DiagnoseProblem& p, const Diagnosis& d, cons
                          {"threshold", c.trial.threshold},
                          {"folds_improved", c.trial.folds_improved},
                          {"folds", c.trial.folds},
-                         {"solo_rmse_after_heldout", c.solo.rmse_after},
+                         {"solo_rmse_after_heldout", c.solo.candidate >= 0 ? nlohmann::json(c.solo.rmse_after) : nlohmann::json(nullptr)},
                          {"carried_by", c.trial.carried_by},
                          {"carriers", c.trial.carriers},
                          {"at_bound", c.at_bound}};
     if (!d.options.report_by.empty()) {
       cj["by_" + d.options.report_by] = gains_json(c.by_report);
-      cj["solo_by_" + d.options.report_by] = gains_json(c.solo_by_report);
+      if (c.solo.candidate >= 0) cj["solo_by_" + d.options.report_by] = gains_json(c.solo_by_report);
     }
     causes.push_back(cj);
   }
   j["causes"] = causes;
+  nlohmann::json aside = nlohmann::json::array();
+  for (auto& a : d.set_aside)
+    aside.push_back({{"step", a.step}, {"id", p.candidates()[a.candidate].id}, {"rmse_before_heldout", a.rmse_before},
+                     {"rmse_after_heldout", a.rmse_after}, {"reason", a.reason}, {"description", a.words}, {"accepted_instead", a.instead}});
+  j["set_aside"] = aside;
+  nlohmann::json checks = nlohmann::json::array();
+  for (auto& c : d.instrument_check) {
+    nlohmann::json by = nlohmann::json::object();
+    for (auto& [v, x] : c.by_value) by[v] = x;
+    checks.push_back({{"cause", c.cause_id}, {"parameter", c.param}, {"joint", c.joint}, {"uncertainty", c.uncertainty},
+                      {"by_" + d.options.check_by, by}, {"disagree", c.disagree}});
+  }
+  j["instrument_check"] = checks;
   nlohmann::json tried = nlohmann::json::array();
   for (size_t s = 0; s < d.steps.size(); ++s)
     for (auto& t : d.steps[s]) tried.push_back(trial_json(p, t, static_cast<int>(s + 1)));
@@ -225,6 +245,9 @@ std::string diagnosis_text(const DiagnoseProblem& p, const Diagnosis& d, const R
   o << "baseline lack of fit: " << f3(d.baseline_lack_of_fit) << " x the noise floor; one residual shape shared by every item holds "
     << f3(100 * d.common_shape_share) << "% of the baseline residual" << (d.instrument_mismatch ? " (instrument mismatch)" : "") << "\n";
   o << "verdict: " << d.verdict << "\n";
+  for (auto& a : d.set_aside)
+    o << "\nset aside at step " << a.step << ": " << p.candidates()[a.candidate].id << ", the best fit held out (" << f3(a.rmse_before)
+      << " -> " << f3(a.rmse_after) << "), " << a.reason << "\n   " << a.words << "\n";
   for (auto& c : d.causes) {
     const CandidateSpec& s = p.candidates()[c.candidate];
     o << "\n" << c.step << ". " << s.title << (s.instrument ? " [instrument]" : "") << "\n   " << c.words << "\n";
@@ -237,9 +260,19 @@ std::string diagnosis_text(const DiagnoseProblem& p, const Diagnosis& d, const R
     for (auto& b : c.at_bound) o << "   note: in the full fit " << b << "\n";
     o << "   held-out RMSE " << f3(c.trial.rmse_before) << " -> " << f3(c.trial.rmse_after) << " (gain in MSE " << f3(c.trial.mean_gain)
       << " > threshold " << f3(c.trial.threshold) << "; " << c.trial.folds_improved << "/" << c.trial.folds
-      << " groups improve); alone on the baseline: " << f3(c.solo.rmse_before) << " -> " << f3(c.solo.rmse_after) << "\n";
+      << " groups improve); alone on the baseline: " << solo_text(p, c) << "\n";
     for (auto& g : c.by_report)
       o << "     " << d.options.report_by << " " << g.value << ": " << f3(g.rmse_before) << " -> " << f3(g.rmse_after) << "\n";
+  }
+  if (!d.instrument_check.empty()) {
+    o << "\none instrument: instrument causes are fitted jointly on every item; fitted on each " << d.options.check_by
+      << " alone as a check only:\n";
+    for (auto& c : d.instrument_check) {
+      o << "  " << c.cause_id << " " << c.param << ": joint " << f3(c.joint) << " +/- " << f3(c.uncertainty) << ";";
+      for (auto& [v, x] : c.by_value) o << " " << v << " " << f3(x);
+      o << (c.disagree ? "  (the " + d.options.check_by + "s disagree: the joint cause averages something that differs between them)" : "")
+        << "\n";
+    }
   }
   o << "\ncandidates tried (held-out RMSE after adding each, threshold on the MSE gain):\n";
   for (size_t s = 0; s < d.steps.size(); ++s)

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <stdexcept>
+#include <tuple>
 
 #include "renderer/core/error.h"
 #include "renderer/diagnose/nnls.h"
@@ -18,7 +19,8 @@ struct SpectraProblem::Effects {
   bool blood = false;
   BloodAbsorber absorber;
   std::vector<int> extras;  // indices into eems_
-  double shift = 0, fwhm = 0, broadening = 0, stray = 0, edge = 0;
+  double shift = 0, fwhm = 0, broadening = 0, edge = 0;
+  bool offset = false;  // stray_light: a flat column, its level fitted per spectrum
   bool lp_leak = false;
   double emission_shift = 0;  // all fluorescence
   struct Shape {
@@ -77,7 +79,54 @@ std::pair<double, double> mean_se(const std::vector<ItemFit>& fits, const std::s
   return {m, se};
 }
 
+// Noise per sample of a spectrum from its second differences (variance 6 sigma^2 for white noise;
+// smooth structure barely contributes, so a lower bound).
+double high_frequency_noise(const Eigen::VectorXd& y) {
+  double s = 0;
+  long n = 0;
+  for (Eigen::Index k = 1; k + 1 < y.size(); ++k) {
+    double d = y[k - 1] - 2 * y[k] + y[k + 1];
+    s += d * d / 6.0;
+    ++n;
+  }
+  return n ? std::sqrt(s / n) : 0.0;
+}
+
 }  // namespace
+
+bool leak_candidate_possible(const SpectraModel& m) {
+  // The column is each light's spectrum times the long-pass's blocked fraction: it needs a
+  // long-pass, and it needs nothing measured. With "leak": "measured" it adds the blocked band's
+  // own level to the white-target record; with "computed" (light x long-pass at its stated
+  // blocking) it frees the blocked band's transmission from the stated OD; with "none" it is the
+  // only way leaked excitation light can be named (else wrong causes describe it), and it brings
+  // the light's passband transmission along (add_leak_columns).
+  return m.emission_filter.has_value();
+}
+
+void check_site_column(const SpectraSet& data, const LayeredCauseOptions& o) {
+  if (data.spectra.empty()) return;
+  const std::string& col = o.site_column;
+  std::vector<std::string> values;
+  bool has_column = false;
+  for (auto& s : data.spectra) {
+    auto it = s.conditions.find(col);
+    if (it == s.conditions.end()) continue;
+    has_column = true;
+    if (std::find(values.begin(), values.end(), it->second) == values.end()) values.push_back(it->second);
+  }
+  if (!has_column)
+    throw InputError("model", "/layered_tissue/site_column",
+                     "column \"" + col + "\" is not in " + data.index_file + ", so no spectrum would get a layered stack");
+  for (auto& site : o.sites)
+    if (std::find(values.begin(), values.end(), site.site) != values.end()) return;
+  std::string have, want;
+  for (size_t k = 0; k < values.size() && k < 12; ++k) have += (k ? ", " : "") + (values[k].empty() ? std::string("(empty)") : values[k]);
+  for (auto& site : o.sites) want += (want.empty() ? "" : ", ") + site.site;
+  throw InputError("model", "/layered_tissue/site_column",
+                   "no selected spectrum has a site the block describes in column \"" + col + "\" (sites: " + want + "; values there: " +
+                       have + "), so no spectrum would get a layered stack");
+}
 
 std::array<double, 3> layered_theta(const double* p) {
   const double f = std::max(0.0, p[1]) + std::max(0.0, p[2]);
@@ -215,10 +264,9 @@ SpectraProblem::SpectraProblem(SpectraSet data, SpectraModel model) : data_(std:
   }
   for (auto& e : extras) eem_names_.push_back(e);
   for (auto& n : eem_names_) eems_.push_back(load_fluorophore(n, grid_, model_.base_dir));
-  // With a computed leak the baseline leak column already has the excitation's shape in the
-  // long-pass's blocked band, so the longpass_leak column would duplicate it.
   SpectraCandidateOptions copt = model_.candidates;
-  if (model_.leak != LeakSource::kMeasured) copt.leak = false;
+  copt.leak = copt.leak && leak_candidate_possible(model_);
+  copt.leak_passband = model_.leak == LeakSource::kNone;
   std::erase_if(copt.plausible, [](const SpectraCandidateOptions::Range& r) { return r.candidate == "layered_tissue"; });  // its own
   std::vector<FluorophoreInfo> info;
   for (size_t k = 0; k < eem_names_.size(); ++k)
@@ -259,6 +307,7 @@ SpectraProblem::SpectraProblem(SpectraSet data, SpectraModel model) : data_(std:
   }
 
   add_layered_candidate();
+  replicate_scoped_params();
   for (auto& c : model_.shared_by) {
     bool any = false;
     for (auto& sp : data_.spectra) any = any || (sp.conditions.count(c) && !sp.conditions.at(c).empty());
@@ -298,6 +347,11 @@ SpectraProblem::SpectraProblem(SpectraSet data, SpectraModel model) : data_(std:
     if (!(m > 0)) throw InputError(s.file, "radiance", "mean radiance over the fit range is not positive");
     it.mean = m;
     it.y = Eigen::Map<Eigen::VectorXd>(y.data(), static_cast<Eigen::Index>(y.size())) / m;
+    it.noise = high_frequency_noise(it.y);
+    for (int kind : {kTissueScope, kInstrumentScope}) {
+      const auto& values = scopes_[kind].values;
+      it.scope[kind] = static_cast<int>(std::find(values.begin(), values.end(), scope_key(s, kind)) - values.begin());
+    }
     for (double nm : it.nm) {
       double x = (nm - grid_.min_nm) / grid_.step_nm;
       int a = std::clamp(static_cast<int>(std::floor(x)), 0, N - 2);
@@ -327,6 +381,7 @@ void SpectraProblem::add_layered_candidate() {
         throw InputError("model", "/plausible/layered_tissue", "the model has no (enabled) layered_tissue block");
     return;
   }
+  check_site_column(data_, o);
   // Walk only where the lights emit and the fit looks (with room for shifts and blur).
   o.min_nm = 1e9;
   for (auto& L : lights_)
@@ -359,10 +414,101 @@ void SpectraProblem::add_layered_candidate() {
   candidates_.push_back(std::move(one[0]));
 }
 
-SpectraProblem::Effects SpectraProblem::decode(const ModelState& s) const {
+std::string SpectraProblem::scope_key(const MeasuredSpectrum& s, int kind) const {
+  std::string k;
+  for (auto& c : scopes_[kind].columns) {
+    auto it = s.conditions.find(c);
+    k += (k.empty() ? "" : "/") + (it == s.conditions.end() ? std::string() : it->second);
+  }
+  return k;
+}
+
+void SpectraProblem::replicate_scoped_params() {
+  scope_params_.assign(candidates_.size(), 0);
+  scope_kind_.assign(candidates_.size(), 0);
+  scopes_[kTissueScope].columns = model_.tissue_per;
+  if (!model_.instrument_column.empty()) scopes_[kInstrumentScope].columns = {model_.instrument_column};
+  const char* field[2] = {"/tissue_per", "/instrument_column"};
+  for (int kind : {kTissueScope, kInstrumentScope}) {
+    Scopes& sc = scopes_[kind];
+    if (sc.columns.empty()) continue;
+    for (auto& c : sc.columns) {
+      bool any = false;
+      for (auto& sp : data_.spectra) any = any || sp.conditions.count(c) > 0;
+      if (!any && !data_.spectra.empty()) throw InputError("model", field[kind], "column \"" + c + "\" is not in " + data_.index_file);
+    }
+    sc.values.clear();
+    for (auto& sp : data_.spectra)
+      if (std::find(sc.values.begin(), sc.values.end(), scope_key(sp, kind)) == sc.values.end()) sc.values.push_back(scope_key(sp, kind));
+    if (sc.values.empty()) sc.values = {""};
+  }
+  // Tissue causes with global parameters get one copy per tissue ("oxy_uM_cm@B"), instrument
+  // causes one per instrument when the model names an instrument column; the layered cause already
+  // has one set per site and stays as it is.
+  for (size_t k = 0; k < candidates_.size(); ++k) {
+    CandidateSpec& c = candidates_[k];
+    const int kind = c.instrument ? kInstrumentScope : kTissueScope;
+    if (scopes_[kind].columns.empty() || c.params.empty() || spectra_cause(c) == SpectraCause::kLayered) continue;
+    const std::vector<std::string>& values = scopes_[kind].values;
+    const std::vector<ParamSpec> base = c.params;
+    const auto base_plausible = c.plausible;
+    c.params.clear();
+    c.plausible.clear();
+    for (size_t v = 0; v < values.size(); ++v)
+      for (size_t j = 0; j < base.size(); ++j) {
+        ParamSpec ps = base[j];
+        ps.name += "@" + values[v];
+        if (v > 0) ps.tie_start = static_cast<int>(j);
+        c.params.push_back(ps);
+      }
+    for (auto& q : base_plausible) {
+      bool is_param = false;
+      for (auto& ps : base) is_param = is_param || ps.name == q.quantity;
+      if (!is_param) { c.plausible.push_back(q); continue; }
+      for (auto& v : values) {
+        auto r = q;
+        r.quantity += "@" + v;
+        c.plausible.push_back(r);
+      }
+    }
+    scope_params_[k] = static_cast<int>(base.size());
+    scope_kind_[k] = kind;
+  }
+}
+
+void SpectraProblem::fill_unfitted(ModelState& state, const std::vector<int>& fitted_items) const {
+  std::vector<char> seen[2];
+  for (int kind : {kTissueScope, kInstrumentScope}) {
+    seen[kind].assign(scopes_[kind].values.size(), 0);
+    for (int i : fitted_items) seen[kind][items_[i].scope[kind]] = 1;
+  }
+  for (auto& a : state.causes) {
+    const int P = scope_params_[a.candidate];
+    if (P == 0) continue;
+    const std::vector<char>& fitted = seen[scope_kind_[a.candidate]];
+    for (int j = 0; j < P; ++j) {
+      double m = 0;
+      int n = 0;
+      for (size_t v = 0; v < fitted.size(); ++v)
+        if (fitted[v]) { m += a.theta[v * P + j]; ++n; }
+      if (n == 0) continue;
+      for (size_t v = 0; v < fitted.size(); ++v)
+        if (!fitted[v]) a.theta[v * P + j] = m / n;
+    }
+  }
+}
+
+SpectraProblem::Effects SpectraProblem::decode(const ModelState& s, const std::array<int, 2>& scope) const {
   Effects fx;
-  for (auto& a : s.causes) {
-    const CandidateSpec& c = candidates_[a.candidate];
+  for (auto& cause : s.causes) {
+    const CandidateSpec& c = candidates_[cause.candidate];
+    // The item's own copy of a per-tissue or per-instrument cause's parameters.
+    ActiveCause a{cause.candidate, {}};
+    const int P = scope_params_[cause.candidate], v = scope[scope_kind_[cause.candidate]];
+    if (P > 0)
+      a.theta.assign(cause.theta.begin() + v * P, cause.theta.begin() + (v + 1) * P);
+    else
+      a.theta = cause.theta;
     switch (spectra_cause(c)) {
       case SpectraCause::kBlood:
         fx.blood = true;
@@ -379,7 +525,7 @@ SpectraProblem::Effects SpectraProblem::decode(const ModelState& s) const {
       case SpectraCause::kShift: fx.shift = a.theta[0]; break;
       case SpectraCause::kBandwidth: fx.fwhm = a.theta[0]; break;
       case SpectraCause::kBroadening: fx.broadening = a.theta[0]; break;
-      case SpectraCause::kStray: fx.stray = a.theta[0]; break;
+      case SpectraCause::kStray: fx.offset = true; break;
       case SpectraCause::kLeak: fx.lp_leak = true; break;
       case SpectraCause::kEdge: fx.edge = a.theta[0]; break;
       case SpectraCause::kEmissionShift: fx.emission_shift = a.theta[0]; break;
@@ -443,21 +589,25 @@ void SpectraProblem::add_leak_columns(int light, const Effects& fx, const std::v
     for (int i = 0; i < N; ++i) col[i] = L.e_tail[i] * block[i];
     cols.push_back(std::move(col));
     if (names) names->push_back("longpass_leak");
+    // Without a leak column in the baseline, the light reflected through the passband (what
+    // "leak": "computed" puts in the baseline) is the candidate's too, with its own amplitude (the
+    // tissue's reflectance): the blocked band's level relative to it is what the filter's OD is.
+    if (model_.leak == LeakSource::kNone) {
+      std::vector<double> pass(N);
+      for (int i = 0; i < N; ++i) pass[i] = L.e_tail[i] * tlp[i];
+      cols.push_back(std::move(pass));
+      if (names) names->push_back("leak_passband");
+    }
   }
 }
 
 void SpectraProblem::apply_instrument(std::vector<std::vector<double>>& cols, const Effects& fx) const {
-  // The instrument, in the order light meets it: slit blur, wavelength scale, stray light.
+  // The instrument, in the order light meets it: slit blur, wavelength scale (the detector-side
+  // offset is a column of its own, add_offset_column).
   double fwhm = std::sqrt(model_.instrument_fwhm_nm * model_.instrument_fwhm_nm + fx.fwhm * fx.fwhm);
   for (auto& c : cols) {
     if (fwhm > 0) gaussian_blur(c, grid_.step_nm, fwhm);
     if (fx.shift != 0) shift_samples(c, grid_.step_nm, fx.shift);
-    if (fx.stray > 0 && !fit_grid_.empty()) {
-      double m = 0;
-      for (int i : fit_grid_) m += c[i];
-      m = fx.stray * m / fit_grid_.size();
-      for (double& v : c) v += m;
-    }
   }
   if (!fx.response.empty()) {
     auto knots = response_knots(range_);
@@ -467,6 +617,16 @@ void SpectraProblem::apply_instrument(std::vector<std::vector<double>>& cols, co
     for (auto& c : cols)
       for (int i = 0; i < grid_.size(); ++i) c[i] *= g[i];
   }
+}
+
+void SpectraProblem::add_offset_column(const Effects& fx, std::vector<std::vector<double>>& cols,
+                                       std::vector<std::string>* names) const {
+  // Detector side: after the filters, the slit and the responsivity, so flat in what is recorded
+  // (a dark level that was not subtracted, or stray light spread evenly over the array). Its level
+  // is each spectrum's own amplitude: it need not scale with the tissue's signal.
+  if (!fx.offset) return;
+  cols.emplace_back(grid_.size(), 1.0);
+  if (names) names->push_back("stray_light");
 }
 
 int SpectraProblem::eem_index(const std::string& name) const {
@@ -536,6 +696,7 @@ std::vector<std::vector<double>> SpectraProblem::grid_columns(int light, int sit
   }
   add_leak_columns(light, fx, tlp, block, cols, names);
   apply_instrument(cols, fx);
+  add_offset_column(fx, cols, names);
   return cols;
 }
 
@@ -543,7 +704,7 @@ SpectraProblem::Design SpectraProblem::instrument_design(const ModelState& state
                                                          const std::vector<double>& radiance) const {
   if (static_cast<int>(radiance.size()) != grid_.size())
     throw std::invalid_argument("instrument_design: radiance is not on the model grid");
-  Effects fx = decode(state);
+  Effects fx = decode(state, items_[item].scope);
   std::vector<double> tlp, block;
   longpass(fx, tlp, block);
   std::vector<std::vector<double>> cols(1, radiance);
@@ -552,6 +713,7 @@ SpectraProblem::Design SpectraProblem::instrument_design(const ModelState& state
   d.names.push_back("radiance");
   add_leak_columns(items_[item].light, fx, tlp, block, cols, &d.names);
   apply_instrument(cols, fx);
+  add_offset_column(fx, cols, &d.names);
   d.A = sample(cols, items_[item]);
   return d;
 }
@@ -568,8 +730,21 @@ Eigen::MatrixXd SpectraProblem::sample(const std::vector<std::vector<double>>& c
 namespace {
 
 // An item's fit from its design A and coefficients x (x in the columns' units per unit y).
+// The detector-side offset of one spectrum against the instrument's level (the peak of what else
+// the spectrum records over the fit range), against the tissue's mean signal, in the data's own
+// units, and against the spectrum's high-frequency noise.
+void offset_locals(ItemFit& f, const Eigen::VectorXd& offset, double mean, double noise) {
+  const double level = offset.size() ? offset[0] : 0.0;
+  const Eigen::VectorXd rest = f.predicted - offset;
+  const double peak = rest.size() ? rest.maxCoeff() : 0.0, avg = rest.size() ? rest.mean() : 0.0;
+  f.locals["offset_of_peak"] = peak > 0 ? level / peak : 0;
+  f.locals["offset_of_mean"] = avg > 0 ? level / avg : 0;
+  f.locals["offset_radiance"] = level * mean;
+  f.locals["offset_to_noise"] = noise > 0 ? level / noise : 0;
+}
+
 ItemFit item_fit(const Eigen::VectorXd& y, const Eigen::MatrixXd& A, const Eigen::VectorXd& x,
-                 const std::vector<std::string>& names, double mean, int dofs) {
+                 const std::vector<std::string>& names, double mean, int dofs, double noise) {
   ItemFit f;
   f.measured = y;
   f.predicted = A * x;
@@ -581,6 +756,7 @@ ItemFit item_fit(const Eigen::VectorXd& y, const Eigen::MatrixXd& A, const Eigen
     f.locals["fraction:" + names[j]] = total > 0 ? part / total : 0;
     f.locals["amount:" + names[j]] = x[j] * mean;  // absolute: per unit of the column (render_loop.h)
     if (names[j] == "longpass_leak") f.locals["leak_ratio"] = x[j] * mean;
+    if (names[j] == "stray_light") offset_locals(f, A.col(j) * x[j], mean, noise);
   }
   return f;
 }
@@ -594,17 +770,20 @@ std::string SpectraProblem::visit_of(int i) const {
 }
 
 std::vector<ItemFit> SpectraProblem::evaluate(const ModelState& state, const std::vector<int>& items) const {
-  Effects fx = decode(state);
-  std::map<std::pair<int, int>, std::vector<std::vector<double>>> cache;
+  std::map<std::array<int, 2>, Effects> fx_of;  // per tissue and instrument (one unless the model has either)
+  std::map<std::tuple<int, int, std::array<int, 2>>, std::vector<std::vector<double>>> cache;
   std::vector<std::string> names;
   std::vector<Eigen::MatrixXd> A(items.size());
   for (size_t q = 0; q < items.size(); ++q) {
     const Item& it = items_[items[q]];
-    const std::pair<int, int> key(it.light, fx.layered.empty() ? -1 : it.site);
+    auto f = fx_of.find(it.scope);
+    if (f == fx_of.end()) f = fx_of.emplace(it.scope, decode(state, it.scope)).first;
+    const Effects& fx = f->second;
+    const std::tuple<int, int, std::array<int, 2>> key(it.light, fx.layered.empty() ? -1 : it.site, it.scope);
     auto c = cache.find(key);
     if (c == cache.end()) {
       std::vector<std::string> nm;
-      c = cache.emplace(key, grid_columns(it.light, key.second, fx, &nm)).first;
+      c = cache.emplace(key, grid_columns(it.light, std::get<1>(key), fx, &nm)).first;
       names = nm;
     }
     A[q] = sample(c->second, it);
@@ -614,7 +793,7 @@ std::vector<ItemFit> SpectraProblem::evaluate(const ModelState& state, const std
     for (size_t q = 0; q < items.size(); ++q) {
       const Item& it = items_[items[q]];
       NnlsResult r = nnls(A[q], it.y);
-      out[q] = item_fit(it.y, A[q], r.x, names, it.mean, r.active);
+      out[q] = item_fit(it.y, A[q], r.x, names, it.mean, r.active, it.noise);
     }
     return out;
   }
@@ -660,12 +839,12 @@ void SpectraProblem::fit_visit(const std::vector<int>& items, const std::vector<
       x[local[j]] = r.x[S + L * Eigen::Index(g) + j];
       dofs += x[local[j]] > 0;
     }
-    out[q] = item_fit(it.y, A[q], x, names, it.mean, dofs);
+    out[q] = item_fit(it.y, A[q], x, names, it.mean, dofs, it.noise);
   }
 }
 
 SpectraProblem::Design SpectraProblem::design(const ModelState& state, int item) const {
-  Effects fx = decode(state);
+  Effects fx = decode(state, items_[item].scope);
   Design d;
   auto cols = grid_columns(items_[item].light, items_[item].site, fx, &d.names);
   d.A = sample(cols, items_[item]);
@@ -708,6 +887,21 @@ std::vector<DerivedParam> SpectraProblem::derived_params(const CandidateSpec& c,
       d.push_back({"effective_od", "decadic (tissue reflectance included)", -m, se});
       auto [f, fse] = mean_se(fits, "fraction:longpass_leak");
       d.push_back({"mean_fraction", "of the predicted signal", f, fse});
+      if (model_.leak == LeakSource::kNone) {
+        auto [q, qse] = mean_se(fits, "fraction:leak_passband");
+        d.push_back({"passband_fraction", "of the predicted signal", q, qse});
+      }
+      break;
+    }
+    case SpectraCause::kStray: {
+      auto [p, pse] = mean_se(fits, "offset_of_peak");
+      d.push_back({"fraction_of_peak", "of the spectrum's recorded peak", p, pse});
+      auto [m, mse] = mean_se(fits, "offset_of_mean");
+      d.push_back({"fraction", "of the tissue's mean signal", m, mse});
+      auto [r, rse] = mean_se(fits, "offset_radiance");
+      d.push_back({"offset", "in the data's units", r, rse});
+      auto [n, nse] = mean_se(fits, "offset_to_noise");
+      d.push_back({"offset_to_noise", "x the spectrum's high-frequency noise", n, nse});
       break;
     }
     case SpectraCause::kUnknownBand: {
@@ -722,6 +916,23 @@ std::vector<DerivedParam> SpectraProblem::derived_params(const CandidateSpec& c,
 
 std::string SpectraProblem::plain_words(const CandidateSpec& c, const std::vector<double>& th,
                                         const std::vector<double>& u, const std::vector<DerivedParam>& d) const {
+  int P = 0, kind = 0;
+  for (size_t k = 0; k < candidates_.size(); ++k)
+    if (candidates_[k].id == c.id) { P = scope_params_[k]; kind = scope_kind_[k]; }
+  const std::vector<std::string>& values = scopes_[kind].values;
+  if (P == 0 || th.size() != values.size() * P) return plain_words_one(c, th, u, d);
+  // One set per tissue or instrument: each in words, named by its value.
+  std::string s;
+  for (size_t q = 0; q < values.size(); ++q) {
+    std::vector<double> t(th.begin() + q * P, th.begin() + (q + 1) * P), v(P, 0.0);
+    if (u.size() == th.size()) v.assign(u.begin() + q * P, u.begin() + (q + 1) * P);
+    s += (q ? " " : "") + std::string("[") + values[q] + "] " + plain_words_one(c, t, v, d);
+  }
+  return s;
+}
+
+std::string SpectraProblem::plain_words_one(const CandidateSpec& c, const std::vector<double>& th,
+                                            const std::vector<double>& u, const std::vector<DerivedParam>& d) const {
   auto pm = [](double v, double e, const char* f) { return fmt(f, v) + " +/- " + fmt(f, e); };
   switch (spectra_cause(c)) {
     case SpectraCause::kBlood: {
@@ -751,12 +962,16 @@ std::string SpectraProblem::plain_words(const CandidateSpec& c, const std::vecto
       return "The tissue's fluorescence bands are broader than the library's spectra: an extra Gaussian of " + pm(th[0], u[0], "%.2f") +
              " nm FWHM on the emission of every fluorophore (the filter edge stays sharp, so this is not the instrument).";
     case SpectraCause::kStray:
-      return "A flat background of " + pm(100 * th[0], 100 * u[0], "%.2f") +
-             "% of the mean signal sits under every spectrum (stray light in the spectroradiometer, or an offset).";
+      return "A flat offset sits under every spectrum on the detector side (a dark level that was not subtracted, or stray "
+             "light in the spectroradiometer), its level fitted per spectrum: on average " +
+             pm(100 * d[0].value, 100 * d[0].uncertainty, "%.2f") + "% of the spectrum's recorded peak (" +
+             fmt("%.2f", 100 * d[1].value) + "% of the tissue's mean signal, " + fmt("%.3g", d[2].value) + " in the data's units, " +
+             fmt("%.1f", d[3].value) + " x the high-frequency noise).";
     case SpectraCause::kLeak:
       return "Excitation light leaks through the long-pass filter in its blocked band at an effective optical density of " +
              pm(d[0].value, d[0].uncertainty, "%.2f") + " (tissue reflectance included), " +
-             fmt("%.2f", 100 * d[1].value) + "% of the signal on average.";
+             fmt("%.2f", 100 * d[1].value) + "% of the signal on average" +
+             (d.size() > 2 ? "; the light's own transmission through the passband adds " + fmt("%.2f", 100 * d[2].value) + "%." : ".");
     case SpectraCause::kEmissionShift:
       return "Every fluorophore's emission sits " + pm(th[0], u[0], "%+.2f") +
              " nm from the library's (fluorescence only; the filter edge and the leak stay where they are).";

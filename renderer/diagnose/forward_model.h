@@ -6,7 +6,8 @@
 //   column k   = T_lp(l) * [sum_ex Phi_k(l, ex) E(ex) ex dex] / l     (photon-unit EEM, energy out)
 //   leak       = measured leak of L (white target through the filters), or E_tail(l) T_lp(l)
 //   y_i(l)/mean(y_i) = sum_k c_ik column_k + a_i leak + residual,  c, a >= 0 (NNLS per spectrum)
-// then the instrument: Gaussian blur (stated FWHM), wavelength shift, stray light. Active causes
+// then the instrument: Gaussian blur (stated FWHM), wavelength shift, and a detector-side flat
+// offset (stray_light, one level per spectrum). Active causes
 // (model_extensions.h) change these columns or add columns. Residuals are in units of the
 // spectrum's mean radiance over the fit range, so spectra at different LED currents weigh alike.
 #pragma once
@@ -53,6 +54,14 @@ struct SpectraModel {
   // Spectra equal in these columns (a visit: subject, site, date) share one set of fluorophore
   // amounts (absolute: the LED spectra's measured levels relate them); empty: every spectrum its own.
   std::vector<std::string> shared_by;
+  // One instrument, tissues that differ: tissue causes' global parameters (blood, shifts, widths,
+  // bands) are fitted one set per value of these columns (e.g. subject), instrument causes one set
+  // for all spectra. A value the fitted spectra do not have (a held-out subject) gets the mean of
+  // the fitted values. Empty (the default): every cause one set for all.
+  std::vector<std::string> tissue_per;
+  // A column naming the instrument each spectrum was measured with: instrument causes then get one
+  // set per instrument. Empty (the default): one instrument.
+  std::string instrument_column;
   std::filesystem::path base_dir;    // for fluorophore files named relative to the model
 };
 
@@ -76,6 +85,15 @@ class SpectraProblem : public DiagnoseProblem {
                                            const std::vector<int>& items) const override;
   std::string plain_words(const CandidateSpec& c, const std::vector<double>& theta, const std::vector<double>& unc,
                           const std::vector<DerivedParam>& derived) const override;
+  void fill_unfitted(ModelState& state, const std::vector<int>& fitted_items) const override;
+
+  // Per-tissue and per-instrument parameters (model "tissue_per", "instrument_column"): the values
+  // of those columns ("" when the model has none), item i's tissue, and the parameters per value
+  // of candidate c (0: one set for all).
+  const std::vector<std::string>& tissue_scopes() const { return scopes_[kTissueScope].values; }
+  const std::vector<std::string>& instrument_scopes() const { return scopes_[kInstrumentScope].values; }
+  int scope_of(int i) const { return items_[i].scope[kTissueScope]; }
+  int params_per_scope(int c) const { return scope_params_[c]; }
 
   // The columns of item i under `state` (before the NNLS), in measured units divided by the
   // spectrum's mean: used to synthesise data with known amplitudes.
@@ -112,9 +130,11 @@ class SpectraProblem : public DiagnoseProblem {
   struct Item {
     int light = -1;
     int site = -1;           // index into sites_ (layered_tissue), -1 when its site has no stack
+    std::array<int, 2> scope = {0, 0};  // index into scopes_[kTissueScope] and scopes_[kInstrumentScope]
     std::vector<double> nm;  // fit wavelengths
     Eigen::VectorXd y;       // measured / mean over the fit range
     double mean = 1;
+    double noise = 0;        // high-frequency scatter of y (second differences), per sample
     std::vector<int> lo;     // grid interpolation: index and weight
     std::vector<double> w;
   };
@@ -125,7 +145,11 @@ class SpectraProblem : public DiagnoseProblem {
     std::vector<double> leak;     // measured leak on the grid (empty if none)
   };
   struct Effects;
-  Effects decode(const ModelState& s) const;
+  Effects decode(const ModelState& s, const std::array<int, 2>& scope) const;
+  void replicate_scoped_params();
+  std::string scope_key(const MeasuredSpectrum& s, int kind) const;
+  std::string plain_words_one(const CandidateSpec& c, const std::vector<double>& theta, const std::vector<double>& unc,
+                              const std::vector<DerivedParam>& derived) const;
   std::vector<std::vector<double>> grid_columns(int light, int site, const Effects& fx, std::vector<std::string>* names) const;
   void add_layered_candidate();
   std::string visit_of(int i) const;
@@ -135,6 +159,7 @@ class SpectraProblem : public DiagnoseProblem {
   void add_leak_columns(int light, const Effects& fx, const std::vector<double>& tlp, const std::vector<double>& block,
                         std::vector<std::vector<double>>& cols, std::vector<std::string>* names) const;
   void apply_instrument(std::vector<std::vector<double>>& cols, const Effects& fx) const;
+  void add_offset_column(const Effects& fx, std::vector<std::vector<double>>& cols, std::vector<std::string>* names) const;
   int eem_index(const std::string& name) const;
   void shape_emission(int k, const Effects& fx, std::vector<double>& col) const;
   Eigen::MatrixXd sample(const std::vector<std::vector<double>>& cols, const Item& it) const;
@@ -148,10 +173,27 @@ class SpectraProblem : public DiagnoseProblem {
   std::vector<Item> items_;
   std::vector<CandidateSpec> candidates_;
   std::vector<std::shared_ptr<const LayeredSite>> sites_;
-  std::vector<int> fit_grid_;  // grid indices inside the fit range (for the stray-light mean)
+  std::vector<int> fit_grid_;  // grid indices inside the fit range
+  // One set of parameters per value of some columns: tissue causes per "tissue_per", instrument
+  // causes per "instrument_column" (no columns: one set, value "").
+  struct Scopes {
+    std::vector<std::string> columns;
+    std::vector<std::string> values = {""};
+  };
+  enum { kTissueScope = 0, kInstrumentScope = 1 };
+  std::array<Scopes, 2> scopes_;
+  std::vector<int> scope_params_;  // per candidate: parameters per scope value (0: one set)
+  std::vector<int> scope_kind_;    // per candidate: which scopes its copies follow
   SpectraRange range_;         // wavelengths fitted (fit range within the data)
 };
 
+// Whether the longpass_leak candidate can be offered: whenever there is an emission long-pass,
+// measured leak or not (its column is computed from each light's spectrum and the long-pass).
+bool leak_candidate_possible(const SpectraModel& m);
+// The layered_tissue block's site column must be an index column holding at least one of its
+// sites: otherwise no spectrum gets a stack and the cause would report zero gain at every site,
+// which reads like a finding. InputError naming /layered_tissue/site_column of the "model".
+void check_site_column(const SpectraSet& data, const LayeredCauseOptions& o);
 // The layered_tissue cause's parameters of one site (thickness mm, oxy and deoxy blood volume
 // fractions) as the stack's (thickness, blood fraction, saturation; saturation 1 without blood).
 std::array<double, 3> layered_theta(const double* site_params);

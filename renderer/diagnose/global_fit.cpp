@@ -84,7 +84,7 @@ GlobalFit fit_global(const DiagnoseProblem& p, ModelState start, const std::vect
     std::vector<std::vector<double>> lists;
     size_t combos = 1;
     for (auto& ps : cps) {
-      lists.push_back(ps.starts.empty() ? std::vector<double>{ps.init} : ps.starts);
+      lists.push_back(ps.starts.empty() || ps.tie_start >= 0 ? std::vector<double>{ps.init} : ps.starts);
       combos *= lists.back().size();
     }
     if (combos > 1) {
@@ -97,6 +97,8 @@ GlobalFit fit_global(const DiagnoseProblem& p, ModelState start, const std::vect
           xt[off + j] = clampv(lists[j][q % lists[j].size()], cps[j]);
           q /= lists[j].size();
         }
+        for (size_t j = 0; j < lists.size(); ++j)
+          if (cps[j].tie_start >= 0) xt[off + j] = clampv(xt[off + static_cast<size_t>(cps[j].tie_start)], cps[j]);
         ModelState st = s;
         unflatten(st, xt);
         double f = residuals(p, st, items).r.squaredNorm();
@@ -133,7 +135,9 @@ GlobalFit fit_global(const DiagnoseProblem& p, ModelState start, const std::vect
       double f_new = f;
       for (int tries = 0; tries < 12; ++tries) {
         Eigen::MatrixXd A = H;
-        for (int j = 0; j < np; ++j) A(j, j) += lambda * std::max(H(j, j), 1e-12);
+        // A parameter the items do not constrain (zero column: a per-subject parameter of a subject
+        // outside them) stays where it is.
+        for (int j = 0; j < np; ++j) A(j, j) += H(j, j) > 0 ? lambda * H(j, j) : 1.0;
         Eigen::VectorXd d = A.ldlt().solve(-g);
         std::vector<double> xn = x;
         for (int j = 0; j < np; ++j) xn[j] = clampv(x[j] + d[j], specs[j]);

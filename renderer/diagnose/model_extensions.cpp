@@ -30,6 +30,8 @@ namespace {
 // responsivity curve) is named only when what it explains held out is at least as large as the
 // noise floor: smaller systematic residuals are what "fits at the noise floor" allows for.
 constexpr double kFlexibleMinEffect = 1.0;
+// Largest plausible detector-side offset, as a fraction of the spectrum's recorded peak.
+constexpr double kStrayMaxOfPeak = 0.2;
 
 CandidateSpec::Plausible plausible(std::string q, double lo, double hi, std::string why) {
   return {std::move(q), lo, hi, std::move(why)};
@@ -122,14 +124,20 @@ std::vector<CandidateSpec> spectra_candidates(const SpectraCandidateOptions& o, 
     }
   }
   if (o.stray) {
-    CandidateSpec s{"stray_light", "stray_light", "stray-light offset (flat, proportional to the signal)",
-                    {param("fraction", "of the mean signal", 0, 0, 1, 1e-4, {0, 0.01, 0.03, 0.1})}, 0};
+    // A flat offset on the detector side, its level fitted per spectrum (a dark level does not
+    // scale with the tissue's signal; stray light scales with everything the array sees). Judged
+    // against the instrument's level, the spectrum's recorded peak, not the tissue's mean signal:
+    // a dim autofluorescence spectrum may sit on a dark level of a sixth of its mean.
+    CandidateSpec s{"stray_light", "stray_light", "a flat offset under every spectrum (detector side: dark level or stray light)", {}, 1};
     s.instrument = true;
-    s.plausible.push_back(plausible("fraction", 0, 0.1, "a spectroradiometer's stray light and dark offset stay below 10 % of the signal"));
+    s.plausible.push_back(plausible("fraction_of_peak", 0, kStrayMaxOfPeak,
+                                    "a working spectroradiometer's dark level and stray light stay well below a fifth of the "
+                                    "recorded peak; a flat column that large more likely stands in for a broad emission the "
+                                    "model lacks"));
     c.push_back(s);
   }
   if (o.leak) {
-    CandidateSpec l{"longpass_leak", "longpass_leak", "excitation leak through the long-pass filter", {}, 1};
+    CandidateSpec l{"longpass_leak", "longpass_leak", "excitation leak through the long-pass filter", {}, o.leak_passband ? 2 : 1};
     l.instrument = true;
     c.push_back(l);
   }

@@ -29,9 +29,14 @@
 //   emission_broadening  the tissue's fluorescence bands are broader than the library's (solution)
 //                        spectra: global Gaussian fwhm_nm on the emission only, so unlike
 //                        `bandwidth` it leaves the filter edge and the leak sharp
-//   stray_light          a flat background proportional to the total signal: global fraction
-//   longpass_leak        excitation light leaking through the long-pass in its blocked band: one
-//                        amplitude per spectrum, reported as the filter's effective OD
+//   stray_light          a flat offset on the detector side (dark level, stray light): one level per
+//                        spectrum; reported against the spectrum's recorded peak (fraction_of_peak,
+//                        plausible up to 0.2), the tissue's mean signal (fraction) and the noise
+//   longpass_leak        excitation light leaking through the long-pass in its blocked band: the
+//                        light's spectrum times the filter's blocked fraction, one amplitude (the
+//                        blocked band's transmission x the tissue's reflectance) per spectrum,
+//                        reported as the filter's effective OD; offered whenever there is a
+//                        long-pass, with or without a measured leak
 //   longpass_edge        the long-pass edge sits elsewhere (angle, temperature): global shift_nm
 // Camera (linear sensor baseline, one exposure gain):
 //   channel_gain (gain_r, gain_b relative to green), crosstalk (6 off-diagonal fractions),
@@ -63,6 +68,9 @@ struct SpectraCandidateOptions {
   bool second_band = true;         // second_band:X
   bool unknown_band = true;
   bool instrument_response = true;
+  // longpass_leak also carries the light's own transmission through the long-pass's passband (a
+  // second amplitude): set when the baseline has no leak column ("leak": "none").
+  bool leak_passband = false;
   // Plausible ranges by candidate id or name ("stray_light", "extra_fluorophore:teeth") and
   // quantity; replaces the default range of that quantity (model JSON "plausible").
   struct Range {

@@ -97,6 +97,7 @@ SyntheticSpectra make_synthetic_spectra(const SyntheticSpectraOptions& o) {
   // The hidden effect and its parameters.
   ModelState truth;
   std::string extra;
+  double stray = 0;
   if (!o.effect.empty()) {
     std::string id = o.effect;
     if (o.effect == "extra_fluorophore") {
@@ -124,9 +125,10 @@ SyntheticSpectra make_synthetic_spectra(const SyntheticSpectraOptions& o) {
       if (o.magnitude >= 0) th[0] = o.magnitude;
       out.truth = {{"fwhm_nm", th[0]}};
     } else if (n == "stray_light") {
-      th = {rng.uniform(0.02, 0.06)};
-      if (o.magnitude >= 0) th[0] = o.magnitude;
-      out.truth = {{"fraction", th[0]}};
+      // A flat offset, a fraction of each spectrum's mean signal (the cause fits its level per
+      // spectrum and reports that fraction).
+      stray = o.magnitude >= 0 ? o.magnitude : rng.uniform(0.02, 0.06);
+      out.truth = {{"fraction", stray}};
     } else if (n == "longpass_edge") {
       th = {rng.sign() * rng.uniform(3, 8)};
       if (o.magnitude >= 0) th[0] = o.magnitude;
@@ -174,6 +176,7 @@ SyntheticSpectra make_synthetic_spectra(const SyntheticSpectraOptions& o) {
         c[j] = std::pow(10.0, -leak_od);
     }
     Eigen::VectorXd y = A * c;
+    if (stray > 0) y.array() += stray * y.mean();
     double ybar = y.mean();
     if (!extra.empty())
       for (Eigen::Index j = 0; j < A.cols(); ++j)

@@ -8,12 +8,28 @@
 
 namespace ofl {
 
-void write_srgb_png(const std::filesystem::path& file, int w, int h, const std::vector<float>& rgb, double exposure) {
-  std::vector<unsigned char> px(static_cast<size_t>(w) * h * 3);
+namespace {
+
+std::vector<unsigned char> srgb_pixels(const std::vector<float>& rgb, double exposure) {
+  std::vector<unsigned char> px(rgb.size());
   for (size_t i = 0; i < px.size(); ++i) px[i] = static_cast<unsigned char>(std::lround(255.0 * srgb_encode(rgb[i] * exposure)));
+  return px;
+}
+
+OIIO::ImageSpec srgb_spec(int w, int h) {
   OIIO::ImageSpec spec(w, h, 3, OIIO::TypeDesc::UINT8);
   spec.attribute("oiio:ColorSpace", "sRGB");
-  write_image_file(file, spec, px.data());
+  return spec;
+}
+
+}  // namespace
+
+void write_srgb_png(const std::filesystem::path& file, int w, int h, const std::vector<float>& rgb, double exposure) {
+  write_image_file(file, srgb_spec(w, h), srgb_pixels(rgb, exposure).data());
+}
+
+std::string srgb_png_bytes(int w, int h, const std::vector<float>& rgb, double exposure) {
+  return encode_image_file("image.png", srgb_spec(w, h), srgb_pixels(rgb, exposure).data());
 }
 
 double auto_exposure(const std::vector<float>& rgb, double percentile, double target) {

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <sstream>
 
 #include <nlohmann/json.hpp>
@@ -160,6 +162,25 @@ void add_illuminant(const SpectralImage& img, const TabulatedSpectrum& led, cons
   s.has_illuminant = true;
 }
 
+// What ISETCam ignores but `import-iset` restores: every AOV plane (metadata.aov.<name>, rows x
+// cols single, as stored) and every header string under its own name (metadata.exrAttributes, the
+// EXR's attributes as a JSON object; MATLAB field names cannot hold them all).
+void add_restorable_fields(const SpectralImage& img, MatValue& meta) {
+  const size_t H = img.height, W = img.width;
+  MatValue aov = MatValue::structure();
+  for (auto& [name, plane] : img.aovs) {
+    if (plane.size() != H * W) continue;
+    std::vector<double> cm(H * W);
+    for (size_t x = 0; x < W; ++x)
+      for (size_t y = 0; y < H; ++y) cm[x * H + y] = plane[y * W + x];
+    aov.set(matlab_field_name(name.rfind("aov.", 0) == 0 ? name.substr(4) : name), MatValue::array({H, W}, std::move(cm), true));
+  }
+  if (!aov.fields.empty()) meta.set("aov", aov);
+  nlohmann::json attrs = nlohmann::json::object();
+  for (auto& [k, v] : img.attributes) attrs[k] = v;
+  meta.set("exrAttributes", MatValue::string(attrs.dump()));
+}
+
 void resolve_geometry(const SpectralImage& img, const IsetSceneOptions& opt, const std::string& source,
                       const std::vector<size_t>& px, IsetScene& s) {
   std::optional<double> vfov = render_vfov_deg(img, &s.warnings);
@@ -220,6 +241,7 @@ IsetScene make_iset_scene(const SpectralImage& img, const IsetSceneOptions& opt,
   for (auto& [k, v] : img.attributes)
     if (k.rfind("oralfluor.", 0) == 0) meta.set(matlab_field_name(k), MatValue::string(v));
   if (!img.fluorescence.empty()) meta.set("fluorescencePhotons", photon_cube(img, img.fluorescence, nullptr));
+  add_restorable_fields(img, meta);
   sc.set("metadata", meta);
   return s;
 }
@@ -245,6 +267,57 @@ const MatValue& find_scene_struct(const std::string& file, const MatVariables& v
   return *found;
 }
 
+// Radiance (row-major, bands contiguous) from a column-major rows x cols x bands photon array.
+std::vector<float> radiance_from_photons(const std::string& file, const std::string& where, const MatValue& v,
+                                         const std::vector<double>& wave, size_t H, size_t W) {
+  std::vector<double> q = mat_numbers(file, v, where);
+  std::vector<size_t> d = v.dims;
+  if (d.size() == 2) d.push_back(1);
+  const size_t B = wave.size();
+  if (d.size() != 3 || d[0] != H || d[1] != W || d[2] != B)
+    throw InputError(file, where, "expected " + std::to_string(H) + " x " + std::to_string(W) + " x " + std::to_string(B) +
+                                      " (rows x cols x wavelengths)");
+  std::vector<float> out(H * W * B);
+  for (size_t b = 0; b < B; ++b) {
+    double k = photon_energy_J(wave[b]);
+    for (size_t x = 0; x < W; ++x)
+      for (size_t y = 0; y < H; ++y) {
+        double p = q[b * H * W + x * H + y];
+        if (p < 0) throw InputError(file, where, "negative radiance");
+        out[(y * W + x) * B + b] = float(p * k);
+      }
+  }
+  return out;
+}
+
+// The fields export-iset adds for oralfluor (see add_restorable_fields): the fluorescence layer,
+// the AOV planes and the EXR's header strings.
+void restore_oralfluor_fields(const std::string& file, const MatValue& meta, const std::vector<double>& wave, size_t H,
+                              size_t W, SpectralImage& img) {
+  if (const MatValue* f = meta.field("fluorescencePhotons"))
+    img.fluorescence = radiance_from_photons(file, "scene.metadata.fluorescencePhotons", *f, wave, H, W);
+  if (const MatValue* aov = meta.field("aov"); aov && aov->kind == MatValue::Kind::kStruct)
+    for (auto& [name, v] : aov->fields) {
+      const std::string where = "scene.metadata.aov." + name;
+      std::vector<double> p = mat_numbers(file, v, where);
+      if (v.dims.size() != 2 || v.dims[0] != H || v.dims[1] != W)
+        throw InputError(file, where, "expected " + std::to_string(H) + " x " + std::to_string(W) + " (the photons' rows x cols)");
+      std::vector<float>& plane = img.aovs["aov." + name];
+      plane.resize(H * W);
+      for (size_t x = 0; x < W; ++x)
+        for (size_t y = 0; y < H; ++y) plane[y * W + x] = float(p[x * H + y]);
+    }
+  if (const MatValue* a = meta.field("exrAttributes"); a && a->kind == MatValue::Kind::kText) {
+    nlohmann::json j = nlohmann::json::parse(a->text, nullptr, false);
+    if (!j.is_object()) throw InputError(file, "scene.metadata.exrAttributes", "expected a JSON object of header strings");
+    for (auto& [k, v] : j.items()) {
+      if (!v.is_string()) throw InputError(file, "scene.metadata.exrAttributes", "attribute \"" + printable(k) + "\" is not a string");
+      img.attributes[k] = v.get<std::string>();
+    }
+    img.attributes["oralfluor.iset_source"] = file;
+  }
+}
+
 }  // namespace
 
 SpectralImage read_iset_scene(const std::filesystem::path& path) {
@@ -256,30 +329,33 @@ SpectralImage read_iset_scene(const std::filesystem::path& path) {
     if (!(wave[i] > wave[i - 1])) throw InputError(file, "scene.spectrum.wave", "wavelengths must increase");
   if (wave.empty()) throw InputError(file, "scene.spectrum.wave", "no wavelengths");
   const MatValue& ph = mat_require(file, sc, "scene", "data.photons");
-  std::vector<double> q = mat_numbers(file, ph, "scene.data.photons");
   std::vector<size_t> d = ph.dims;
   if (d.size() == 2) d.push_back(1);
   if (d.size() != 3 || d[2] != wave.size())
     throw InputError(file, "scene.data.photons", "expected rows x cols x " + std::to_string(wave.size()) + " (one plane per wavelength)");
+  const size_t H = d[0], W = d[1];
+  if (H < 1 || W < 1 || H > 65536 || W > 65536) throw InputError(file, "scene.data.photons", "expected 1 to 65536 rows and columns");
   SpectralImage img;
-  img.resize(int(d[1]), int(d[0]), wave);
-  const size_t H = d[0], W = d[1], B = d[2];
-  for (size_t b = 0; b < B; ++b) {
-    double k = photon_energy_J(wave[b]);
-    for (size_t x = 0; x < W; ++x)
-      for (size_t y = 0; y < H; ++y) {
-        double v = q[b * H * W + x * H + y];
-        if (v < 0) throw InputError(file, "scene.data.photons", "negative radiance");
-        img.data[(y * W + x) * B + b] = float(v * k);
-      }
-  }
+  img.width = int(W);
+  img.height = int(H);
+  img.band_nm = wave;
+  img.data = radiance_from_photons(file, "scene.data.photons", ph, wave, H, W);
   img.attributes["emissiveUnits"] = "W.m^-2.sr^-1";
   img.attributes["oralfluor.scene"] = file;
+  if (const MatValue* meta = sc.field("metadata"); meta && meta->kind == MatValue::Kind::kStruct)
+    restore_oralfluor_fields(file, *meta, wave, H, W, img);
   if (const MatValue* w = sc.field("wAngular")) {
     double h = mat_scalar(file, *w, "scene.wAngular");
     if (!(h > 0 && h < 180)) throw InputError(file, "scene.wAngular", "expected a field of view in (0, 180) degrees");
     double v = 2.0 * std::atan(std::tan(0.5 * h * kPi / 180.0) * double(H) / double(W)) * 180.0 / kPi;
-    img.attributes["oralfluor.vfov_deg"] = std::to_string(v);
+    // A restored render header keeps its own text unless wAngular was changed since.
+    auto it = img.attributes.find("oralfluor.vfov_deg");
+    double kept = it == img.attributes.end() ? -1.0 : std::strtod(it->second.c_str(), nullptr);
+    if (!(std::abs(kept - v) <= 1e-9 * v)) {
+      char buf[40];
+      std::snprintf(buf, sizeof buf, "%.17g", v);
+      img.attributes["oralfluor.vfov_deg"] = buf;
+    }
   }
   if (const MatValue* dist = sc.field("distance"))
     img.attributes["oralfluor.iset_distance_m"] = std::to_string(mat_scalar(file, *dist, "scene.distance"));

@@ -18,7 +18,10 @@
 //                       irradiance of the pixels that see geometry (aov.irradiance), so that
 //                       scene photons ./ illuminant photons reads as an apparent reflectance there
 //   scene.metadata      oralfluor's header strings (source, seed, spp, ...) and, when rendered,
-//                       fluorescencePhotons (the fluorescent part, same layout as data.photons)
+//                       fluorescencePhotons (the fluorescent part, same layout as data.photons),
+//                       aov.<name> (each AOV plane, rows x cols single) and exrAttributes (every
+//                       header string under its own name, as JSON text): ISETCam ignores them,
+//                       read_iset_scene restores them, so an export imports back as the EXR it was
 #pragma once
 #include <filesystem>
 #include <optional>
@@ -51,7 +54,8 @@ void write_iset_scene(const std::filesystem::path& file, const IsetScene& s);
 
 // An ISETCam scene .mat (variable `scene`, or the only struct of type 'scene') as a spectral
 // radiance image (W sr^-1 m^-2 nm^-1), with oralfluor.vfov_deg from wAngular and the distance in
-// oralfluor.iset_distance_m. Errors name the file and the field (e.g. "scene.data.photons").
+// oralfluor.iset_distance_m; the fluorescence layer, AOV planes and header strings when the
+// metadata holds them (an exported scene). Errors name the file and the field (e.g. "scene.data.photons").
 SpectralImage read_iset_scene(const std::filesystem::path& file);
 
 }  // namespace ofl

@@ -121,6 +121,7 @@ MatPtr open_for_reading(const std::filesystem::path& file) {
   quiet_matio();
   std::error_code ec;
   if (!std::filesystem::is_regular_file(file, ec)) throw InputError(file.string(), "", "file not found");
+  if (std::filesystem::file_size(file, ec) == 0) throw InputError(file.string(), "", "empty file: not a MATLAB .mat file");
   check_mat4_sizes(file);  // libmatio's MAT 4 probe allocates the name length it reads
   MatPtr mat(Mat_Open(file.string().c_str(), MAT_ACC_RDONLY));
   if (!mat) throw InputError(file.string(), "", "not a MATLAB .mat file (libmatio cannot open it)");
@@ -341,28 +342,80 @@ matvar_t* to_matvar(const char* name, const MatValue& m, const std::string& wher
 
 }  // namespace
 
+namespace {
+
+bool same_number(double written, double read, bool single) {
+  if (single) written = double(float(written));
+  return written == read || (std::isnan(written) && std::isnan(read));
+}
+
+// True when `read` (from the file) holds what `written` asked for: kind, dimensions and every value.
+// An empty value may come back as any empty kind (MATLAB has no separate empty type).
+bool same_value(const MatValue& written, const MatValue& read) {
+  const bool w_empty = written.kind == MatValue::Kind::kEmpty || (written.numel() == 0 && written.kind != MatValue::Kind::kStruct);
+  if (w_empty) return read.numel() == 0 && read.kind != MatValue::Kind::kStruct;
+  if (written.kind != read.kind) return false;
+  switch (written.kind) {
+    case MatValue::Kind::kNumeric: {
+      std::vector<size_t> d = written.dims;
+      while (d.size() < 2) d.push_back(1);
+      if (d != read.dims || written.numbers.size() != read.numbers.size()) return false;
+      for (size_t i = 0; i < read.numbers.size(); ++i)
+        if (!same_number(written.numbers[i], read.numbers[i], written.single)) return false;
+      return true;
+    }
+    case MatValue::Kind::kText: {
+      std::string t = written.text;
+      for (char& c : t)
+        if ((unsigned char)c >= 128) c = '?';  // stored as 8-bit code units, read back as ASCII
+      return t == read.text;
+    }
+    case MatValue::Kind::kStruct:
+      if (written.fields.size() != read.fields.size()) return false;
+      for (size_t i = 0; i < written.fields.size(); ++i)
+        if (written.fields[i].first != read.fields[i].first || !same_value(written.fields[i].second, read.fields[i].second))
+          return false;
+      return true;
+    case MatValue::Kind::kCell:
+      if (written.cells.size() != read.cells.size()) return false;
+      for (size_t i = 0; i < written.cells.size(); ++i)
+        if (!same_value(written.cells[i], read.cells[i])) return false;
+      return true;
+    default: return false;
+  }
+}
+
+}  // namespace
+
 void write_mat_file(const std::filesystem::path& file, const MatVariables& vars) {
   quiet_matio();
-  // libmatio writes by file name: into a temporary beside the file, renamed once complete and
-  // flushed (write_via_temporary); every matio error and the final close are checked.
-  write_via_temporary(file, [&](const std::filesystem::path& tmp) {
+  // libmatio writes by file name and does not report every failed write (a full disk left a cut
+  // file and a zero return): it writes an in-memory file, which is read back whole (data included)
+  // and compared with what was asked for, and only then do its bytes go to `file` through the
+  // checked, atomic path (write_via_memory_file).
+  write_via_memory_file(file, [&](const std::filesystem::path& name) {
     auto fail = [&](const std::string& what) { throw InputError(file.string(), "", what); };
-    MatPtr mat(Mat_CreateVer(tmp.string().c_str(), "oralfluor", MAT_FT_MAT5));
+    MatPtr mat(Mat_CreateVer(name.string().c_str(), "oralfluor", MAT_FT_MAT5));
     if (!mat) fail("cannot create the file (missing folder or no permission?)");
-    for (auto& [name, value] : vars) {
-      VarPtr v{to_matvar(name.c_str(), value, name)};
-      if (!v) fail("libmatio cannot build variable \"" + name + "\"");
-      if (Mat_VarWrite(mat.get(), v.get(), MAT_COMPRESSION_ZLIB) != 0) fail("cannot write variable \"" + name + "\" (disk full?)");
+    for (auto& [var, value] : vars) {
+      VarPtr v{to_matvar(var.c_str(), value, var)};
+      if (!v) fail("libmatio cannot build variable \"" + var + "\"");
+      if (Mat_VarWrite(mat.get(), v.get(), MAT_COMPRESSION_ZLIB) != 0) fail("cannot write variable \"" + var + "\"");
     }
-    if (Mat_Close(mat.release()) != 0) fail("cannot write (disk full?)");
-    // libmatio does not report every failed write (a full disk can leave an empty or cut file and
-    // a zero return): read the file back and require every variable, data included.
-    MatPtr back(Mat_Open(tmp.string().c_str(), MAT_ACC_RDONLY));
-    if (!back) fail("cannot write: the written file does not read back (disk full?)");
-    size_t n = 0;
-    while (VarPtr v{Mat_VarReadNext(back.get())}) ++n;
-    if (n != vars.size())
-      fail("cannot write: " + std::to_string(n) + " of " + std::to_string(vars.size()) + " variables read back (disk full?)");
+    if (Mat_Close(mat.release()) != 0) fail("cannot write: libmatio could not close the file");
+    MatVariables back;
+    try {
+      back = read_mat_file(name);
+    } catch (const InputError& e) {
+      fail(std::string("cannot write: libmatio's output does not read back (") + e.what() + ")" + file_size_limit_note());
+    }
+    if (back.size() != vars.size())
+      fail("cannot write: " + std::to_string(back.size()) + " of " + std::to_string(vars.size()) +
+           " variables of libmatio's output read back" + file_size_limit_note());
+    for (size_t i = 0; i < vars.size(); ++i)
+      if (back[i].first != vars[i].first || !same_value(vars[i].second, back[i].second))
+        fail("cannot write: variable \"" + vars[i].first + "\" of libmatio's output does not read back as written" +
+             file_size_limit_note());
   });
 }
 

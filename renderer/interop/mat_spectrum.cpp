@@ -28,7 +28,11 @@ std::vector<std::string> column_names(const std::string& file, const MatVariable
     for (size_t i = 0; i < k; ++i) {
       if (fn->cells[i].kind != MatValue::Kind::kText || fn->cells[i].text.empty())
         throw InputError(file, "variable \"filterNames\"", "entry " + std::to_string(i + 1) + " is not a name");
-      names.push_back(fn->cells[i].text);
+      // ISETCam pads names in some files (' led525' in SixLEDs.mat): columns match without the spaces.
+      std::string n = fn->cells[i].text;
+      size_t a = n.find_first_not_of(" \t"), b = n.find_last_not_of(" \t");
+      if (a == std::string::npos) throw InputError(file, "variable \"filterNames\"", "entry " + std::to_string(i + 1) + " is blank");
+      names.push_back(n.substr(a, b - a + 1));
     }
     return names;
   }

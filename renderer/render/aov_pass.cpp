@@ -6,6 +6,7 @@
 
 #include <glm/geometric.hpp>
 
+#include "renderer/core/progress.h"
 #include "renderer/render/sampling.h"
 
 namespace ofl {
@@ -67,6 +68,7 @@ std::map<std::string, std::vector<float>> compute_aovs(const Scene& scene, const
   glm::dvec3 u = glm::cross(r, f);
   double th = std::tan(0.5 * c.vfov_deg * kPi / 180.0), tw = th * double(W) / H;
   tbb::parallel_for(0, H, [&](int y) {
+    if (interrupt_requested()) return;
     for (int x = 0; x < W; ++x) {
       size_t i = size_t(y) * W + x;
       glm::dvec3 d = glm::normalize(f + (2.0 * (x + 0.5) / W - 1.0) * tw * r + (1.0 - 2.0 * (y + 0.5) / H) * th * u);
@@ -84,6 +86,7 @@ std::map<std::string, std::vector<float>> compute_aovs(const Scene& scene, const
       out["aov.irradiance"][i] = float(led_irradiance(scene, embree, sp));
     }
   });
+  if (interrupt_requested()) out.clear();
   return out;
 }
 

@@ -12,7 +12,8 @@
 namespace ofl {
 
 // Planes named "aov.material" (index into Scene::materials; -1 nothing, -2 an LED), "aov.u",
-// "aov.v", "aov.depth" (m), "aov.cos_view", "aov.irradiance" (W m^-2).
+// "aov.v", "aov.depth" (m), "aov.cos_view", "aov.irradiance" (W m^-2). Empty when SIGINT arrives
+// while they are computed (rows left are skipped: no plane is ever half filled).
 std::map<std::string, std::vector<float>> compute_aovs(const Scene& scene, const EmbreeScene& embree);
 
 // What the camera looks at, from n x n pinhole rays spread over the frame: how many hit anything and

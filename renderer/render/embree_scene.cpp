@@ -162,7 +162,7 @@ SurfacePoint EmbreeScene::surface(const RayHit& h, const glm::dvec3& o, const gl
     }
   }
   s.scale = std::max({std::fabs(s.p.x), std::fabs(s.p.y), std::fabs(s.p.z), 1e-2});
-  s.material = resolve_material(src_, s.material, s.uv.x, s.uv.y);  // "regions" materials
+  s.material = resolve_material(src_, s.material, s.uv.x, s.uv.y, s.p);  // "regions" materials
   return s;
 }
 

@@ -35,6 +35,7 @@ struct SurfacePoint {
   glm::vec2 uv{0, 0};
   int material = -1;
   double scale = 0.1;  // magnitude of p, for ray offsets
+  bool flipped = false;  // ng and ns were turned to face the viewer (they face away from the authored side)
 };
 
 class EmbreeScene {
@@ -48,6 +49,7 @@ class EmbreeScene {
   bool occluded(const glm::dvec3& o, const glm::dvec3& d, float tmax) const;
 
   const GeomInfo& info(unsigned geom) const { return info_[geom]; }
+  size_t geometries() const { return info_.size(); }
   SurfacePoint surface(const RayHit& h, const glm::dvec3& o, const glm::dvec3& d) const;
   RTCScene handle() const { return scene_; }
 

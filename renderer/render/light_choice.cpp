@@ -2,9 +2,9 @@
 
 namespace ofl {
 
-LightChoice::LightChoice(const std::vector<LedLight>& lights, const DiscreteDistribution& by_power)
+LightChoice::LightChoice(const std::vector<LedLight>& lights, const DiscreteDistribution& by_power, bool by_power_only)
     : lights_(lights), by_power_(by_power) {
-  if (!lights.empty() && int(lights.size()) <= kMaxWeighed) weighed_ = int(lights.size());
+  if (!by_power_only && !lights.empty() && int(lights.size()) <= kMaxWeighed) weighed_ = int(lights.size());
 }
 
 double LightChoice::weights(const glm::dvec3& p, const glm::dvec3& ns, const glm::dvec3& ng, double* w) const {

@@ -24,7 +24,8 @@ struct LightPick {
 class LightChoice {
  public:
   static constexpr int kMaxWeighed = 64;
-  LightChoice(const std::vector<LedLight>& lights, const DiscreteDistribution& by_power);
+  // by_power_only: choose by power at every point (IntegratorSpec::LightSelection::kPower).
+  LightChoice(const std::vector<LedLight>& lights, const DiscreteDistribution& by_power, bool by_power_only = false);
 
   // Chooses an LED for the point p (shading normal ns, geometric normal ng, both on the side the
   // light must come from) with the uniform number u in [0, 1).

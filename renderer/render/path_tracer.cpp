@@ -6,7 +6,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <cstdlib>
 #if defined(__x86_64__) || defined(__i386__)
 #include <x86intrin.h>
 #endif
@@ -35,13 +34,16 @@ void record_ray(RayLog* log, const glm::dvec3& o, const glm::dvec3& d, float tma
 }
 
 PathTracer::PathTracer(const Scene& scene, const EmbreeScene& embree, const RenderTables& tables)
-    : scene_(scene), embree_(embree), t_(tables), light_choice_(scene.lights, tables.light_select) {
+    : scene_(scene),
+      embree_(embree),
+      t_(tables),
+      wavelengths_(tables.wavelength_pdf),
+      light_choice_(scene.lights, tables.light_select,
+                    scene.integrator.light_selection == IntegratorSpec::LightSelection::kPower),
+      spatial_(scene, embree, tables) {
   deterministic_ = scene.integrator.direct_excitation == IntegratorSpec::DirectExcitation::kDeterministic;
   for (const LedLight& l : scene.lights) hittable_emitters_ = hittable_emitters_ || !l.is_point();
   for (const MaterialTables& m : tables.materials) hittable_emitters_ = hittable_emitters_ || !m.emission.empty();
-  const std::vector<double>& cdf = t_.wavelength_pdf.cdf;
-  const size_t guides = 4 * cdf.size();
-  for (size_t j = 0; j < guides; ++j) wl_guide_.push_back(t_.wavelength_pdf.sample(double(j) / double(guides)));
   const CameraSpec& c = scene.camera;
   cam_pos_ = c.position;
   cam_fwd_ = glm::normalize(c.look_at - c.position);
@@ -65,22 +67,13 @@ PathTracer::Ray PathTracer::camera_ray(int x, int y, Rng& rng) const {
   return {o, glm::normalize(focus - o)};
 }
 
-int PathTracer::sample_wavelength(double u) const {
-  const std::vector<double>& cdf = t_.wavelength_pdf.cdf;
-  const int last = int(cdf.size()) - 1;
-  int i = wl_guide_[std::min(wl_guide_.size() - 1, size_t(u * double(wl_guide_.size())))];
-  while (i < last && cdf[i] <= u) ++i;    // the first bin whose CDF exceeds u...
-  while (i > 0 && cdf[i - 1] > u) --i;    // ...whatever rounding did to the guide's index
-  return i;
-}
-
 // Camera wavelengths: stratified over the CDF, one uniform offset shared by the lanes.
 void PathTracer::init_lanes(PathLanes& p, Rng& rng) const {
   double u0 = rng.next_double();
   for (int k = 0; k < kLanes; ++k) {
     double u = u0 + double(k) / kLanes;
     if (u >= 1) u -= 1;
-    p.film[k] = p.wl[k] = sample_wavelength(u);
+    p.film[k] = p.wl[k] = wavelengths_.sample(u);
     p.beta[k] = 1;
     p.L[k] = p.Lf[k] = 0;
     p.fl[k] = false;
@@ -88,7 +81,8 @@ void PathTracer::init_lanes(PathLanes& p, Rng& rng) const {
   }
 }
 
-void PathTracer::hit_led(const RayHit& hit, const Ray& ray, double prev_pdf, const SurfacePoint& prev, PathLanes& p) const {
+void PathTracer::hit_led(const RayHit& hit, const Ray& ray, double prev_pdf, const SurfacePoint& prev, bool prev_by_power,
+                         PathLanes& p) const {
   const GeomInfo& gi = embree_.info(hit.geom);
   const LedLight& led = scene_.lights[gi.index];
   double cos_l = -glm::dot(ray.d, led.axis);
@@ -96,7 +90,8 @@ void PathTracer::hit_led(const RayHit& hit, const Ray& ray, double prev_pdf, con
   double prof = led.profile.eval(cos_l) / (led.area() * cos_l) * t_.light_scale[gi.index];
   double w = 1.0;
   if (prev_pdf > 0) {
-    double pl = light_choice_.pmf(gi.index, prev.p, prev.ns, prev.ng) * double(hit.t) * hit.t / (led.area() * cos_l);
+    const double pick = prev_by_power ? t_.light_select.pdf(gi.index) : light_choice_.pmf(gi.index, prev.p, prev.ns, prev.ng);
+    double pl = pick * double(hit.t) * hit.t / (led.area() * cos_l);
     w = power_heuristic(prev_pdf, pl);
   }
   const float* shape = t_.light_shape[t_.light_group[gi.index]].data();
@@ -283,16 +278,28 @@ PathTracer::Continuation PathTracer::layered_vertex(const SurfacePoint& sp, cons
   return c;
 }
 
-static int rr_mode_tmp() { const char* e = std::getenv("OFL_RR_MODE"); return e ? std::atoi(e) : 0; }
-static int rr_start_tmp() { const char* e = std::getenv("OFL_RR_START"); return e ? std::atoi(e) : 0; }
+PathTracer::Continuation PathTracer::spatial_vertex(const SurfacePoint& sp, unsigned geom, const Frame& frame,
+                                                    const glm::dvec3& wo, const MaterialTables& mt, PathLanes& p, Rng& rng,
+                                                    RayCounts& counts, RayLog* log) const {
+  const SpatialScatter s = spatial_.scatter(sp, geom, frame, wo, mt, p, rng, counts, log);
+  Continuation c;
+  if (!s.ok || glm::dot(s.wi_world, s.from.ng) <= 0) return c;
+  c.ok = true;
+  c.wi_world = s.wi_world;
+  c.pdf = s.pdf;
+  c.diffuse = !s.reflected;
+  c.moved = !s.reflected;
+  c.from = s.from;
+  c.light_by_power = true;  // its next-event estimation chooses LEDs by power (spatial_vertex.cpp)
+  return c;
+}
 
 bool PathTracer::roulette(PathLanes& p, int depth, Rng& rng) const {
-  static const int mode = rr_mode_tmp(), start = rr_start_tmp();
-  float maxb = 0, sum = 0;
-  for (int k = 0; k < kLanes; ++k) { maxb = std::max(maxb, p.beta[k]); sum += p.beta[k]; }
+  float maxb = 0;
+  for (int k = 0; k < kLanes; ++k) maxb = std::max(maxb, p.beta[k]);
   if (maxb <= 0) return false;
-  if (depth + 1 >= (start ? start : scene_.integrator.rr_start_depth)) {
-    float q = std::min(1.0f, mode == 1 ? sum / kLanes : maxb);
+  if (depth + 1 >= scene_.integrator.rr_start_depth) {
+    float q = std::min(1.0f, maxb);
     if (q < 1.0f) {
       if (rng.next_float() >= q) return false;
       for (int k = 0; k < kLanes; ++k) p.beta[k] /= q;
@@ -326,6 +333,7 @@ double PathTracer::sample_pixel(int x, int y, Rng& rng, double* bands, RayCounts
   counts.mark(Stage::kCamera);
   double prev_pdf = 0;        // solid-angle pdf of the direction that produced `ray`, 0 = camera/delta
   SurfacePoint prev;          // the point `ray` left (when prev_pdf > 0)
+  bool prev_by_power = false; // that point's next-event estimation chose its LED by power alone
   bool diffuse_seen = false;  // the path has left a surface through its diffuse lobe
   const int max_depth = scene_.integrator.max_depth;
   for (int depth = 0;; ++depth) {
@@ -334,14 +342,14 @@ double PathTracer::sample_pixel(int x, int y, Rng& rng, double* bands, RayCounts
     counts.mark(Stage::kIntersect);
     if (!hit.found()) break;
     if (embree_.info(hit.geom).kind == GeomInfo::Kind::kLed) {
-      hit_led(hit, ray, prev_pdf, prev, p);
+      hit_led(hit, ray, prev_pdf, prev, prev_by_power, p);
       counts.mark(Stage::kShading);
       break;  // the LED body absorbs
     }
     SurfacePoint sp = embree_.surface(hit, ray.o, ray.d);
     glm::dvec3 wo_w = -ray.d;
     // Two-sided surfaces: work on the side the ray came from.
-    if (glm::dot(sp.ng, wo_w) < 0) { sp.ng = -sp.ng; sp.ns = -sp.ns; }
+    if (glm::dot(sp.ng, wo_w) < 0) { sp.ng = -sp.ng; sp.ns = -sp.ns; sp.flipped = true; }
     if (glm::dot(sp.ns, wo_w) <= 1e-6) sp.ns = sp.ng;
     const MaterialTables& mt = t_.materials[sp.material];
     if (!mt.emission.empty())
@@ -351,18 +359,20 @@ double PathTracer::sample_pixel(int x, int y, Rng& rng, double* bands, RayCounts
     Frame frame(sp.ns);
     glm::dvec3 wo = frame.to_local(wo_w);
     counts.mark(Stage::kSurface);
-    Continuation c = mt.stack.enabled ? layered_vertex(sp, frame, wo, mt, p, rng, counts, log)
-                                      : surface_vertex(sp, frame, wo, mt, diffuse_seen, p, rng, counts, log);
+    Continuation c = !mt.stack.enabled ? surface_vertex(sp, frame, wo, mt, diffuse_seen, p, rng, counts, log)
+                     : mt.stack.spatial ? spatial_vertex(sp, hit.geom, frame, wo, mt, p, rng, counts, log)
+                                        : layered_vertex(sp, frame, wo, mt, p, rng, counts, log);
     counts.mark(mt.stack.enabled ? Stage::kLayered : Stage::kShading);
     if (!c.ok) break;
     if (depth + 1 >= max_depth && !hittable_emitters_) break;  // the next hit could only add emission
     if (c.diffuse) diffuse_seen = scene_.integrator.regularize_glossy > 0;
     prev_pdf = c.pdf;
-    prev = sp;
+    prev = c.moved ? c.from : sp;
+    prev_by_power = c.light_by_power;
     const bool more = roulette(p, depth, rng);
     counts.mark(Stage::kShading);
     if (!more) break;
-    ray = {EmbreeScene::offset(sp, c.wi_world), c.wi_world};
+    ray = {EmbreeScene::offset(prev, c.wi_world), c.wi_world};
     counts.extension++;
   }
   counts.mark(Stage::kSurface);  // a path that ends at a hit ends after its hit point and material

@@ -15,6 +15,7 @@
 
 #include "renderer/core/progress.h"
 #include "renderer/render/aov_pass.h"
+#include "renderer/render/spatial/spatial_checks.h"
 
 namespace ofl {
 
@@ -51,6 +52,8 @@ RenderResult render(const Scene& scene, const RenderOptions& opt) {
       st.warnings.push_back("the camera appears to be inside closed geometry: " + std::to_string(vp.back_hits) + " of " +
                             std::to_string(vp.rays) + " view rays hit the back of a surface");
   }
+  throw_if_interrupted("preparing the render; nothing was rendered");
+  for (std::string& w : spatial_geometry_warnings(scene, embree, tables)) st.warnings.push_back(std::move(w));
   std::optional<ProgressBar> bar;  // RenderOptions::progress false: no bar at all
   if (opt.progress) bar.emplace("render", int64_t(W) * H * spp);
   std::mutex mu;
@@ -69,14 +72,22 @@ RenderResult render(const Scene& scene, const RenderOptions& opt) {
     if (!opt.progress_callback(samples_done.load(), total_samples)) stop = true;
   };
   const int max_pass = std::max(1, int(4'000'000 / (int64_t(W) * H)));
+  // Ctrl-C during a pass: the tiles not yet started skip it and the tiles that finished keep it, so
+  // the first signal takes effect within a tile, and no sample that was traced is thrown away
+  // (those tiles hold `partial` more samples per pixel than the rest).
+  std::vector<char> tile_in_pass(size_t(tx) * ty, 0);
+  int partial = 0;
   while (done < spp) {
     int pass = std::clamp(done, 1, max_pass);
     pass = std::min(pass, spp - done);
+    std::fill(tile_in_pass.begin(), tile_in_pass.end(), 0);
     tbb::parallel_for(tbb::blocked_range<int>(0, tx * ty, 1), [&](const tbb::blocked_range<int>& r) {
       RayCounts local;
       local.timing = opt.time_stages;
       std::vector<double> acc(B), acc_fl(B);
       for (int tile = r.begin(); tile != r.end(); ++tile) {
+        if (interrupt_requested()) continue;
+        tile_in_pass[size_t(tile)] = 1;
         int x0 = (tile % tx) * kTile, y0 = (tile / tx) * kTile;
         for (int y = y0; y < std::min(y0 + kTile, H); ++y)
           for (int x = x0; x < std::min(x0 + kTile, W); ++x) {
@@ -103,6 +114,11 @@ RenderResult render(const Scene& scene, const RenderOptions& opt) {
       std::lock_guard lock(mu);
       st.rays += local;
     });
+    if (std::find(tile_in_pass.begin(), tile_in_pass.end(), 0) != tile_in_pass.end()) {
+      partial = pass;  // interrupted inside the pass
+      st.interrupted = true;
+      break;
+    }
     done += pass;
     // Relative noise of the image mean from the difference of the even and odd half-images.
     double tot = 0, diff2 = 0;
@@ -123,18 +139,32 @@ RenderResult render(const Scene& scene, const RenderOptions& opt) {
   st.seconds = std::chrono::duration<double>(t2 - t1).count();
   st.spp_done = done;
   st.camera_samples = uint64_t(W) * H * done;
+  // 1 / samples of each pixel: `done`, plus `partial` in the tiles that finished an interrupted pass.
+  std::vector<double> inv(size_t(W) * H, done > 0 ? 1.0 / done : 0.0);
+  if (partial > 0)
+    for (int y = 0; y < H; ++y)
+      for (int x = 0; x < W; ++x)
+        if (tile_in_pass[size_t(y / kTile) * tx + x / kTile]) {
+          inv[size_t(y) * W + x] = 1.0 / (done + partial);
+          st.camera_samples += uint64_t(partial);
+        }
 
   RenderResult res;
   std::vector<double> centres;
   for (int b = 0; b < B; ++b) centres.push_back(scene.integrator.bands.centre(b));
   res.image.resize(W, H, centres);
-  double inv = done > 0 ? 1.0 / done : 0.0;
-  for (size_t i = 0; i < sum.size(); ++i) res.image.data[i] = float(sum[i] * inv);
+  for (size_t i = 0; i < sum.size(); ++i) res.image.data[i] = float(sum[i] * inv[i / size_t(B)]);
   if (track_fl) {
     res.image.fluorescence.resize(sum_fl.size());
-    for (size_t i = 0; i < sum_fl.size(); ++i) res.image.fluorescence[i] = float(sum_fl[i] * inv);
+    for (size_t i = 0; i < sum_fl.size(); ++i) res.image.fluorescence[i] = float(sum_fl[i] * inv[i / size_t(B)]);
   }
-  if (opt.aovs) res.image.aovs = compute_aovs(scene, embree);
+  if (opt.aovs) {
+    res.image.aovs = compute_aovs(scene, embree);
+    if (res.image.aovs.empty()) {  // Ctrl-C while they were computed: the radiance is kept without them
+      st.interrupted = true;
+      st.warnings.push_back("interrupted before the per-pixel planes (aov.*) were complete: the image has none");
+    }
+  }
   if (done > 0 && std::all_of(res.image.data.begin(), res.image.data.end(), [](float v) { return v == 0.0f; }))
     st.warnings.push_back("the image is all zero: no light reached the camera");
   res.stats = st;

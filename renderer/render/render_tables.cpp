@@ -6,6 +6,9 @@
 
 #include "renderer/camera/camera_description.h"
 #include "renderer/camera/expected_signal.h"
+#include "renderer/core/error.h"
+#include "renderer/render/spatial/spatial_tables.h"
+#include "renderer/render/spatial/stack_profiles.h"
 #include "renderer/render/stack_response.h"
 #include "renderer/render/stack_response_cache.h"
 #include "renderer/spectral/units.h"
@@ -14,8 +17,23 @@ namespace ofl {
 
 namespace {
 
-// Layered materials with transport "table": their response, for the bins camera lanes can reach
-// (up to the last bin the film samples; re-radiation only moves a lane to shorter wavelengths).
+// The lateral profiles of a spatial stack and what the renderer looks up from them.
+void build_spatial(const Scene& sc, const LayerStack& stack, const std::string& name, int used, RenderTables& rt,
+                   MaterialTables& t) {
+  StackProfileOptions o;
+  if (stack.profile_photons > 0) o.photons = stack.profile_photons;
+  if (stack.table_similarity_after == 0) o.similarity_after = 0;  // exact phase asked for: profiles too
+  o.used_bins = used;
+  o.cache_dir = default_stack_cache_dir();
+  o.label = name;
+  auto prof = build_stack_profiles(t.stack, t, rt.n, o);
+  for (const std::string& w : prof->warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
+  t.stack.spatial = build_spatial_stack(t.stack, prof, rt.light_shape);
+}
+
+// Layered materials with transport "table" or "spatial": their response, for the bins camera lanes
+// can reach (up to the last bin the film samples; re-radiation only moves a lane to shorter
+// wavelengths); for "spatial" also the lateral profiles.
 void build_stack_responses(const Scene& sc, RenderTables& rt) {
   int used = 0;
   for (int i = 0; i < rt.n; ++i)
@@ -23,7 +41,13 @@ void build_stack_responses(const Scene& sc, RenderTables& rt) {
   for (size_t k = 0; k < rt.materials.size(); ++k) {
     MaterialTables& t = rt.materials[k];
     const LayerStack& stack = sc.materials[k].stack;
-    if (!t.stack.enabled || stack.transport != StackTransport::kTable || !stack_response_unsupported(t.stack, t).empty()) continue;
+    if (!t.stack.enabled || stack.transport == StackTransport::kWalk) continue;
+    if (std::string why = stack_response_unsupported(t.stack, t); !why.empty()) {
+      if (stack.transport == StackTransport::kSpatial)
+        throw InputError(sc.file, "/materials/" + sc.materials[k].name + "/transport",
+                         "\"spatial\" needs the stack's table, but " + why + "; use \"walk\"");
+      continue;
+    }
     StackResponseOptions o;
     if (stack.table_photons > 0) o.photons = stack.table_photons;
     o.used_bins = used;
@@ -33,6 +57,7 @@ void build_stack_responses(const Scene& sc, RenderTables& rt) {
     auto r = build_stack_response(t.stack, t, rt.n, rt.light_shape, o);
     for (const std::string& w : r->warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
     t.stack.response = std::move(r);
+    if (stack.transport == StackTransport::kSpatial) build_spatial(sc, stack, sc.materials[k].name, used, rt, t);
   }
 }
 

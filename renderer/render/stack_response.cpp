@@ -8,57 +8,12 @@
 #include <tbb/parallel_for.h>
 
 #include "renderer/core/progress.h"
+#include "renderer/render/stack_fill.h"
 #include "renderer/render/stack_response_cache.h"
-#include "renderer/render/stack_walk.h"
 
 namespace ofl {
 
 namespace {
-
-// Depth bins of the fluence tallies: per layer, widths growing geometrically from the layer's top
-// (where the unscattered LED light decays fastest), capped; a semi-infinite layer is followed to
-// kDepthCap below its top (deeper collisions are not tallied: nothing from there returns).
-constexpr double kFirstBin = 0.003, kGrowth = 1.15, kWidestBin = 0.2, kDepthCap = 10.0;  // mm
-
-struct DepthBins {
-  std::vector<double> lo, hi;
-  std::vector<int> layer;
-  std::vector<int> first, end;  // per layer: its bins [first, end)
-
-  explicit DepthBins(const StackTables& st) {
-    for (int l = 0; l < int(st.layers.size()); ++l) {
-      const StackLayerTables& L = st.layers[l];
-      first.push_back(int(lo.size()));
-      const double bottom = std::min(L.bottom, L.top + kDepthCap);
-      if (L.clear) {
-        add(L.top, bottom, l);
-      } else {
-        double z = L.top, h = kFirstBin;
-        while (z < bottom) {
-          double e = std::min(z + h, bottom);
-          if (bottom - e < 0.25 * h) e = bottom;  // no sliver at the bottom
-          add(z, e, l);
-          z = e;
-          h = std::min(h * kGrowth, kWidestBin);
-        }
-      }
-      end.push_back(int(lo.size()));
-    }
-  }
-  void add(double a, double b, int l) {
-    lo.push_back(a);
-    hi.push_back(b);
-    layer.push_back(l);
-  }
-  int size() const { return int(lo.size()); }
-  // The bin of depth z in layer l, or -1 below the cap.
-  int find(int l, double z) const {
-    auto b = hi.begin() + first[l], e = hi.begin() + end[l];
-    auto it = std::upper_bound(b, e, z);
-    if (it == e) return z <= hi[end[l] - 1] ? end[l] - 1 : -1;
-    return int(it - hi.begin());
-  }
-};
 
 // Collision tallies of one walk batch: lane x depth bin.
 struct FluenceTally {
@@ -107,28 +62,6 @@ struct WalkSums {
   std::vector<double> fluence, exits;
 };
 
-// Photons of one wavelength group entering through the top from `down`, their collisions tallied
-// by `visitor`; `exited(result, lanes)` sees every walk that leaves through the top.
-template <class Exit>
-void launch_group(const StackTables& st, const StackWalker& walker, int first_wl, int count, Rng& rng,
-                  const glm::dvec3& down, FluenceTally& visitor, Exit exited) {
-  InterfaceEvent e = st.top.scatter(down, rng);
-  if (e.weight <= 0 || !e.transmitted) return;  // the top's specular reflection: closed form
-  WalkLanes lanes;
-  lanes.count = count;
-  for (int k = 0; k < count; ++k) {
-    lanes.wl[k] = first_wl + k;
-    lanes.w[k] = float(e.weight);
-  }
-  WalkState s;
-  s.d = e.dir;
-  const StackPointFactors fac;
-  WalkResult res = walker.walk(s, lanes, fac, rng, visitor);
-  if (res.end == WalkEnd::kExitTop && res.dir.z > 0) exited(res, lanes);
-}
-
-glm::dvec3 downward(double mu) { return {-std::sqrt(std::max(0.0, 1.0 - mu * mu)), 0.0, -mu}; }
-
 // The walks of one (node, wavelength group) job.
 void run_job(const StackTables& st, const MaterialTables& mt, int n, const DepthBins& bins, const StackResponseOptions& opt,
              const StackResponse& r, int node, int group, WalkSums& sums) {
@@ -139,6 +72,7 @@ void run_job(const StackTables& st, const MaterialTables& mt, int n, const Depth
   const StackWalker walker = StackWalker(st, mt, n, WalkMode::kImportance).with_similarity_after(opt.similarity_after);
   const uint64_t job = uint64_t(node) * 4096 + uint64_t(group);
   for (int p = 0; p < opt.photons; ++p) {
+    if ((p & 1023) == 0 && interrupt_requested()) return;  // the table is dropped (fill_stack_response)
     Rng rng(opt.seed, Rng::stream_for(job, uint64_t(p)));
     const double mu = launch_cosine(r, node, rng);
     launch_group(st, walker, first_wl, count, rng, downward(mu), visitor, [&](const WalkResult& res, const WalkLanes& lanes) {
@@ -166,21 +100,6 @@ void fill_elastic(const WalkSums& sums, const StackResponseOptions& opt, StackRe
         if (opt.symmetrize) f = 0.5 * (f + sums.exits[(size_t(i) * N + o) * n + wl] / norm[o]);
         r.elastic[r.cell(o, i) * n + wl] = float(f);
       }
-}
-
-// Per layer, sigma_l(em <- ex) summed over its fluorophores ([em * n + ex], 1/mm, bin width included).
-std::vector<std::vector<float>> layer_emission(const StackTables& st, int n) {
-  std::vector<std::vector<float>> out;
-  for (const StackLayerTables& L : st.layers) {
-    std::vector<float> s;
-    for (const auto& f : L.fluors) {
-      if (f.emit.empty()) continue;
-      if (s.empty()) s.assign(size_t(n) * n, 0.0f);
-      for (size_t j = 0; j < s.size(); ++j) s[j] += f.emit[j];
-    }
-    out.push_back(std::move(s));
-  }
-  return out;
 }
 
 void fill_fluorescence(const StackTables& st, const DepthBins& bins, const WalkSums& sums, StackResponse& r) {
@@ -346,10 +265,12 @@ std::shared_ptr<StackResponse> fill_stack_response(const StackTables& st, const 
   sums.exits.assign(size_t(N) * N * n, 0.0);
   ProgressBar progress("layered table" + (opt.label.empty() ? std::string() : " " + opt.label), int64_t(N) * groups);
   tbb::parallel_for(0, N * groups, [&](int job) {
+    if (interrupt_requested()) return;  // Ctrl-C: the jobs left are skipped and the table dropped
     run_job(st, mt, n, bins, opt, *r, job / groups, job % groups, sums);
     progress.advance();
   });
   progress.finish();
+  throw_if_interrupted("filling a layered tissue's table (nothing of it was kept)");
   r->walks = (long long)N * groups * opt.photons;
   fill_elastic(sums, opt, *r);
   fill_fluorescence(st, bins, sums, *r);

@@ -14,21 +14,18 @@ namespace ofl {
 
 namespace {
 
-constexpr char kMagic[8] = {'O', 'F', 'L', 'S', 'T', 'K', '0', '1'};
+constexpr char kMagic[8] = {'O', 'F', 'L', 'E', 'N', 'T', '0', '2'};
 
-// Header of an entry, followed by the elastic then the fluorescent floats and a 16-byte hash of
-// everything before it.
+// Header of an entry, followed by the element count of each array (uint64), the arrays' floats one
+// after the other, and a 16-byte hash of everything before it.
 struct EntryHeader {
   char magic[8];
   char key[32];
-  int32_t nodes, n;
+  char kind[8];
   int64_t walks;
   double build_seconds;
-  uint64_t elastic_count, fluor_count;
+  uint64_t arrays;
 };
-
-uint64_t elastic_count(int nodes, int n) { return uint64_t(nodes) * nodes * n; }
-uint64_t fluor_count(int nodes, int n) { return uint64_t(nodes) * nodes * n * n; }
 
 std::string trailer(const char* p, size_t size) {
   Fnv128 f;
@@ -54,6 +51,11 @@ void add_layer(Fnv128& f, const StackLayerTables& L) {
   }
 }
 
+void kind_field(char (&out)[8], const std::string& kind) {
+  std::memset(out, 0, sizeof out);
+  std::memcpy(out, kind.data(), std::min(kind.size(), sizeof out));
+}
+
 }  // namespace
 
 std::filesystem::path default_stack_cache_dir() {
@@ -67,17 +69,11 @@ std::filesystem::path default_stack_cache_dir() {
   return {};
 }
 
-std::string stack_response_key(const StackTables& st, const MaterialTables& mt, int n, const StackResponseOptions& opt) {
+std::string stack_content_key(const StackTables& st, const MaterialTables& mt, int n) {
   Fnv128 f;
-  f.text("oralfluor stack response");
+  f.text("oralfluor layer stack");
   f.text(OFL_STACK_TRANSPORT_HASH);
   f.value(n);
-  f.value(opt.nodes);
-  f.value(opt.photons);
-  f.value(opt.symmetrize);
-  f.value(opt.seed);
-  f.value(opt.similarity_after);
-  f.value(opt.used_bins > 0 ? std::min(opt.used_bins, n) : n);
   f.value(st.ambient_ior);
   f.value(st.top.alpha());
   f.value(st.top.n_above());
@@ -90,20 +86,34 @@ std::string stack_response_key(const StackTables& st, const MaterialTables& mt, 
   return f.hex();
 }
 
-std::filesystem::path stack_cache_file(const std::filesystem::path& dir, const std::string& key) {
-  return dir / "stack-response" / (key + ".ofltable");
+std::string stack_response_key(const StackTables& st, const MaterialTables& mt, int n, const StackResponseOptions& opt) {
+  Fnv128 f;
+  f.text("oralfluor stack response");
+  f.text(stack_content_key(st, mt, n));
+  f.value(opt.nodes);
+  f.value(opt.photons);
+  f.value(opt.symmetrize);
+  f.value(opt.seed);
+  f.value(opt.similarity_after);
+  f.value(opt.used_bins > 0 ? std::min(opt.used_bins, n) : n);
+  return f.hex();
 }
 
-std::shared_ptr<StackResponse> load_cached_stack_response(const std::filesystem::path& dir, const std::string& key,
-                                                          int nodes, int n, std::string& warning) {
-  const std::filesystem::path file = stack_cache_file(dir, key);
+std::filesystem::path stack_cache_file(const std::filesystem::path& dir, const std::string& key, const std::string& kind) {
+  return dir / "stack-response" / (key + "." + kind);
+}
+
+bool load_float_entry(const std::filesystem::path& dir, const std::string& key, const std::string& kind,
+                      const std::vector<std::vector<float>*>& arrays, long long& walks, double& seconds, std::string& warning) {
+  const std::filesystem::path file = stack_cache_file(dir, key, kind);
   std::error_code ec;
-  if (!std::filesystem::exists(file, ec)) return nullptr;
-  const uint64_t ne = elastic_count(nodes, n), nf = fluor_count(nodes, n);
-  const uint64_t expected = sizeof(EntryHeader) + 4 * (ne + nf) + 16;
-  auto bad = [&](const std::string& why) -> std::shared_ptr<StackResponse> {
+  if (!std::filesystem::exists(file, ec)) return false;
+  uint64_t floats = 0;
+  for (const auto* a : arrays) floats += a->size();
+  const uint64_t expected = sizeof(EntryHeader) + 8 * arrays.size() + 4 * floats + 16;
+  auto bad = [&](const std::string& why) {
     warning = file.string() + ": cached layered table ignored (" + why + "); filling it again";
-    return nullptr;
+    return false;
   };
   const uint64_t size = std::filesystem::file_size(file, ec);
   if (ec || size != expected) return bad("size " + std::to_string(ec ? 0 : size) + " bytes, expected " + std::to_string(expected));
@@ -113,37 +123,44 @@ std::shared_ptr<StackResponse> load_cached_stack_response(const std::filesystem:
   if (trailer(bytes.data(), size - 16) != bytes.substr(size - 16)) return bad("its checksum does not match");
   EntryHeader h;
   std::memcpy(&h, bytes.data(), sizeof h);
-  if (std::memcmp(h.magic, kMagic, sizeof kMagic) != 0 || std::string(h.key, 32) != key || h.nodes != nodes || h.n != n ||
-      h.elastic_count != ne || h.fluor_count != nf)
+  char k[8];
+  kind_field(k, kind);
+  if (std::memcmp(h.magic, kMagic, sizeof kMagic) != 0 || std::string(h.key, 32) != key || std::memcmp(h.kind, k, 8) != 0 ||
+      h.arrays != arrays.size())
     return bad("another format, key or size");
-  auto r = std::make_shared<StackResponse>();
-  r->nodes = nodes;
-  r->n = n;
-  r->walks = h.walks;
-  r->build_seconds = h.build_seconds;
-  r->elastic.resize(ne);
-  r->fluor.resize(nf);
   const char* p = bytes.data() + sizeof h;
-  std::memcpy(r->elastic.data(), p, 4 * ne);
-  std::memcpy(r->fluor.data(), p + 4 * ne, 4 * nf);
-  return r;
+  for (const auto* a : arrays) {
+    uint64_t count;
+    std::memcpy(&count, p, 8);
+    p += 8;
+    if (count != a->size()) return bad("another format, key or size");
+  }
+  for (auto* a : arrays) {
+    std::memcpy(a->data(), p, 4 * a->size());
+    p += 4 * a->size();
+  }
+  walks = h.walks;
+  seconds = h.build_seconds;
+  return true;
 }
 
-std::string store_stack_response(const std::filesystem::path& dir, const std::string& key, const StackResponse& r) {
-  const std::filesystem::path file = stack_cache_file(dir, key);
+std::string store_float_entry(const std::filesystem::path& dir, const std::string& key, const std::string& kind,
+                              const std::vector<const std::vector<float>*>& arrays, long long walks, double seconds) {
+  const std::filesystem::path file = stack_cache_file(dir, key, kind);
   try {
     EntryHeader h{};
     std::memcpy(h.magic, kMagic, sizeof kMagic);
     std::memcpy(h.key, key.data(), std::min<size_t>(32, key.size()));
-    h.nodes = r.nodes;
-    h.n = r.n;
-    h.walks = r.walks;
-    h.build_seconds = r.build_seconds;
-    h.elastic_count = r.elastic.size();
-    h.fluor_count = r.fluor.size();
+    kind_field(h.kind, kind);
+    h.walks = walks;
+    h.build_seconds = seconds;
+    h.arrays = arrays.size();
     std::string bytes(reinterpret_cast<const char*>(&h), sizeof h);
-    bytes.append(reinterpret_cast<const char*>(r.elastic.data()), 4 * r.elastic.size());
-    bytes.append(reinterpret_cast<const char*>(r.fluor.data()), 4 * r.fluor.size());
+    for (const auto* a : arrays) {
+      const uint64_t count = a->size();
+      bytes.append(reinterpret_cast<const char*>(&count), 8);
+    }
+    for (const auto* a : arrays) bytes.append(reinterpret_cast<const char*>(a->data()), 4 * a->size());
     bytes += trailer(bytes.data(), bytes.size());
     std::error_code ec;
     std::filesystem::create_directories(file.parent_path(), ec);
@@ -153,6 +170,21 @@ std::string store_stack_response(const std::filesystem::path& dir, const std::st
     return std::string("layered table not cached: ") + e.what();
   }
   return {};
+}
+
+std::shared_ptr<StackResponse> load_cached_stack_response(const std::filesystem::path& dir, const std::string& key,
+                                                          int nodes, int n, std::string& warning) {
+  auto r = std::make_shared<StackResponse>();
+  r->nodes = nodes;
+  r->n = n;
+  r->elastic.resize(size_t(nodes) * nodes * n);
+  r->fluor.resize(size_t(nodes) * nodes * n * n);
+  if (!load_float_entry(dir, key, kTableEntry, {&r->elastic, &r->fluor}, r->walks, r->build_seconds, warning)) return nullptr;
+  return r;
+}
+
+std::string store_stack_response(const std::filesystem::path& dir, const std::string& key, const StackResponse& r) {
+  return store_float_entry(dir, key, kTableEntry, {&r.elastic, &r.fluor}, r.walks, r.build_seconds);
 }
 
 }  // namespace ofl

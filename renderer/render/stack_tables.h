@@ -15,6 +15,7 @@
 namespace ofl {
 
 struct StackResponse;  // renderer/render/stack_response.h
+struct SpatialStack;   // renderer/render/spatial/spatial_tables.h
 
 struct StackFluorophoreTables {
   std::vector<float> absorb;   // [ex] mua_f(ex), 1/mm
@@ -51,6 +52,9 @@ struct StackTables {
   std::vector<std::vector<float>> led_mu_eff;
   // The tabulated response (transport "table"), or null: the walk runs at every vertex.
   std::shared_ptr<const StackResponse> response;
+  // The lateral profiles (transport "spatial"), with the table above for the directional part; null
+  // otherwise.
+  std::shared_ptr<const SpatialStack> spatial;
   bool fluorescent() const {
     for (auto& l : layers)
       if (!l.fluors.empty()) return true;

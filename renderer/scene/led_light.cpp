@@ -335,8 +335,11 @@ static void parse_emitter(const JsonNode& n, const WavelengthGrid& grid, LedLigh
   if (auto f = n.find("filter")) filters.push_back(*f);
   if (auto fs = n.find("filters"))
     for (size_t i = 0; i < fs->size(); ++i) filters.push_back(fs->at(i));
+  // Any spectrum form of docs/scene-format.md ("Spectra") read as a transmittance: a CSV name, a
+  // constant, points, the filter types (at normal incidence: the light's own filter sits on its axis).
   for (auto& f : filters) {
-    auto t = tabulate(parse_filter(f).at_angle(0.0), grid);
+    auto t = tabulate(parse_spectrum(f, SpectrumKind::kTransmittance), grid);
+    check_tabulated(f, t, grid, SpectrumKind::kTransmittance);
     for (size_t i = 0; i < s.size(); ++i) s[i] *= t[i];
   }
   l.spectral_intensity.resize(s.size());

@@ -37,6 +37,11 @@ struct IntegratorSpec {
   BandSet bands;
   enum class DirectExcitation { kDeterministic, kSampled };
   DirectExcitation direct_excitation = DirectExcitation::kDeterministic;
+  // Which LED next-event estimation goes to at a surface point: weighed by what each LED can give
+  // that point (renderer/render/light_choice.h), or by power alone (the older estimator, for
+  // comparison). Both are unbiased.
+  enum class LightSelection { kReach, kPower };
+  LightSelection light_selection = LightSelection::kReach;
   bool fluorescence = true;   // false: fluorophores are ignored (for cost/contrast comparisons)
   double noise_target = 0;    // > 0: stop adding passes once the relative noise falls below this
   // > 0: after a path's first diffuse bounce, wet coatings are treated as at least this rough
@@ -85,8 +90,8 @@ struct SceneOverrides {
 
 Scene load_scene(const std::filesystem::path& file, const SceneOverrides& overrides = {});
 // The material at a surface point: a "regions" material resolves to the material its masks give at
-// (u, v); any other material is itself.
-int resolve_material(const Scene& scene, int material, float u, float v);
+// (u, v) or its spheres give at p; any other material is itself.
+int resolve_material(const Scene& scene, int material, float u, float v, const glm::dvec3& p);
 Scene load_scene(const JsonFile& doc, const SceneOverrides& overrides = {});
 
 }  // namespace ofl

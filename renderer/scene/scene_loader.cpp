@@ -20,7 +20,7 @@ constexpr int kFormatVersion = 1;
 
 IntegratorSpec parse_integrator(const JsonNode& n) {
   n.check_keys({"spp", "max_depth", "rr_start_depth", "seed", "wavelengths", "output_bands", "direct_excitation",
-                "fluorescence", "noise_target", "regularize_glossy", "importance_camera"});
+                "light_selection", "fluorescence", "noise_target", "regularize_glossy", "importance_camera"});
   IntegratorSpec s;
   s.spp = n.integer_or("spp", s.spp, 1, 1 << 24);
   s.max_depth = n.integer_or("max_depth", s.max_depth, 0, 100000);
@@ -49,6 +49,9 @@ IntegratorSpec parse_integrator(const JsonNode& n) {
     n.fail("output bands " + std::to_string(lo) + "-" + std::to_string(hi) + " nm reach outside the wavelength grid");
   std::string de = n.choice_or("direct_excitation", "deterministic", {"deterministic", "sampled"});
   s.direct_excitation = de == "sampled" ? IntegratorSpec::DirectExcitation::kSampled : IntegratorSpec::DirectExcitation::kDeterministic;
+  s.light_selection = n.choice_or("light_selection", "reach", {"reach", "power"}) == "power"
+                          ? IntegratorSpec::LightSelection::kPower
+                          : IntegratorSpec::LightSelection::kReach;
   s.fluorescence = n.boolean_or("fluorescence", true);
   s.noise_target = n.number_or("noise_target", 0.0, 0.0, 1.0);
   s.regularize_glossy = n.number_or("regularize_glossy", 0.0, 0.0, 1.0);
@@ -114,6 +117,24 @@ void parse_geometry(Scene& sc, const JsonNode& list) {
   }
 }
 
+bool spatial_transport(const Material& m) { return m.stack.enabled && m.stack.transport == StackTransport::kSpatial; }
+
+// Light that travels sideways crosses from one region into the next only between materials that
+// carry it: either every material of a regions material uses the spatial transport, or none does.
+void check_spatial_regions(const Scene& sc, const Material& m, const JsonNode& node) {
+  const Material& base = sc.materials[m.regions_base];
+  for (size_t k = 0; k < m.regions.size(); ++k) {
+    const Material& r = sc.materials[m.regions[k].material];
+    if (spatial_transport(r) == spatial_transport(base)) continue;
+    const Material& sp = spatial_transport(r) ? r : base;
+    const Material& other = spatial_transport(r) ? base : r;
+    node.at("regions").at(k).at("material").fail(
+        "\"" + sp.name + "\" uses the \"spatial\" transport but \"" + other.name +
+        "\" does not: light travelling sideways between regions needs every material of \"" + m.name +
+        "\" to be layered_tissue with \"transport\": \"spatial\"");
+  }
+}
+
 // "regions" materials name other materials: resolve them now that all are read. A region may not
 // itself be a regions material (no chains, no cycles).
 void resolve_regions(Scene& sc, const JsonNode& mats) {
@@ -128,17 +149,24 @@ void resolve_regions(Scene& sc, const JsonNode& mats) {
     };
     m.regions_base = resolve(m.regions_base_name, node.at("base"));
     for (size_t k = 0; k < m.regions.size(); ++k) m.regions[k].material = resolve(m.regions[k].material_name, node.at("regions").at(k).at("material"));
+    check_spatial_regions(sc, m, node);
   }
 }
 
 }  // namespace
 
-int resolve_material(const Scene& sc, int material, float u, float v) {
+int resolve_material(const Scene& sc, int material, float u, float v, const glm::dvec3& p) {
   if (material < 0) return material;
   const Material& m = sc.materials[material];
   if (!m.dispatches()) return material;
-  for (const auto& r : m.regions)
-    if (sc.textures[r.texture].lookup(u, v) > r.threshold) return r.material;
+  for (const auto& r : m.regions) {
+    if (r.sphere) {
+      const glm::dvec3 d = p - glm::dvec3(r.centre_m[0], r.centre_m[1], r.centre_m[2]);
+      if (glm::dot(d, d) < r.radius_m * r.radius_m) return r.material;
+    } else if (sc.textures[r.texture].lookup(u, v) > r.threshold) {
+      return r.material;
+    }
+  }
   return m.regions_base;
 }
 

@@ -62,20 +62,24 @@ RenderCache::RenderCache(std::filesystem::path out_dir, bool create) : dir_(std:
   remove_stale_temporaries(dir_);
 }
 
-std::optional<CachedRender> RenderCache::load(const std::string& key) const {
+std::optional<CachedRender> RenderCache::load(const std::string& key, std::string* damaged) const {
   std::ifstream in(json_file(key), std::ios::binary);
   if (!in) return std::nullopt;
+  auto bad = [&](const std::string& why) -> std::optional<CachedRender> {
+    if (damaged) *damaged = json_file(key).string() + ": cached render ignored (" + why + "); rendering it again";
+    return std::nullopt;
+  };
   try {
     nlohmann::json j = nlohmann::json::parse(in);
     if (j.value("format", std::string()) != "oralfluor-render-cache" || j.value("version", 0) != kRenderCacheVersion ||
         j.value("key", std::string()) != key)
-      return std::nullopt;
+      return bad("another format, version or key");
     CachedRender c;
     c.image = read_spectral_exr(exr_file(key));
     const auto& bands = j.at("band_nm");
     if (c.image.width != j.at("width").get<int>() || c.image.height != j.at("height").get<int>() ||
         c.image.bands() != int(bands.size()))
-      return std::nullopt;
+      return bad("the EXR's size or bands differ from the entry's");
     // The EXR's channel names carry 6 decimals; the exact centres come from the JSON.
     c.image.band_nm = bands.get<std::vector<double>>();
     // Header strings the EXR layout adds, not the renderer: the image is the one the render made.
@@ -88,8 +92,10 @@ std::optional<CachedRender> RenderCache::load(const std::string& key) const {
     c.stats.camera_samples = s.at("camera_samples").get<uint64_t>();
     c.stats.relative_noise = s.at("relative_noise").get<double>();
     return c;
-  } catch (const std::exception&) {
-    return std::nullopt;  // a damaged entry is rendered again and overwritten
+  } catch (const InputError& e) {
+    return bad(e.describe());  // the EXR: missing, cut short, not an EXR
+  } catch (const std::exception& e) {
+    return bad(std::string("unreadable: ") + e.what());  // the JSON
   }
 }
 

@@ -56,8 +56,9 @@ class RenderCache {
   std::filesystem::path exr_file(const std::string& key) const { return dir_ / (key + ".exr"); }
   std::filesystem::path json_file(const std::string& key) const { return dir_ / (key + ".json"); }
   // The stored render when both files exist, the JSON names this key and format, and the EXR has
-  // the recorded size and bands; nullopt otherwise (the caller renders again and overwrites).
-  std::optional<CachedRender> load(const std::string& key) const;
+  // the recorded size and bands; nullopt otherwise (the caller renders again and overwrites). An
+  // entry that exists but fails these checks is said in `*damaged` (when given).
+  std::optional<CachedRender> load(const std::string& key, std::string* damaged = nullptr) const;
   void save(const std::string& key, const nlohmann::json& identity, const SpectralImage& image,
             const RenderStats& stats) const;
   std::vector<std::string> keys() const;  // every complete entry (its JSON exists)

@@ -1,7 +1,5 @@
 #include "renderer/sweep/sweep_point.h"
 
-#include <unistd.h>
-
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -76,17 +74,10 @@ std::vector<float> downscale(const std::vector<float>& rgb, int w, int h, int tw
 }
 
 // A PNG (bytes) of linear RGB scaled to `width` pixels wide; exposure < 0: automatic.
-std::string thumbnail_png(const std::vector<float>& rgb, int w, int h, int width, const std::string& key,
-                          double exposure = -1) {
+std::string thumbnail_png(const std::vector<float>& rgb, int w, int h, int width, double exposure = -1) {
   int tw = std::min(width, w), th = std::max(1, int(std::lround(double(h) * tw / w)));
   std::vector<float> small = downscale(rgb, w, h, tw, th);
-  auto tmp = std::filesystem::temp_directory_path() /
-             ("ofl_sweep_thumb_" + std::to_string(::getpid()) + "_" + key + ".png");
-  write_srgb_png(tmp, tw, th, small, exposure > 0 ? exposure : auto_exposure(small));
-  std::string bytes = slurp(tmp);
-  std::error_code ec;
-  std::filesystem::remove(tmp, ec);
-  return bytes;
+  return srgb_png_bytes(tw, th, small, exposure > 0 ? exposure : auto_exposure(small));
 }
 
 // Which of the base files a point uses (a scene_file / camera_file parameter may pick another).
@@ -152,8 +143,10 @@ std::string base64_decode(const std::string& in) {
   return out;
 }
 
-nlohmann::json point_identity(const SweepSpec& spec, const DesignPoint& pt) {
-  auto [scene, camera] = point_files(spec, pt);
+namespace {
+
+// The point's own part of its identity: each parameter's value and what it edits.
+nlohmann::json identity_parameters(const SweepSpec& spec, const DesignPoint& pt) {
   nlohmann::json params = nlohmann::json::array();
   for (size_t i = 0; i < spec.parameters.size(); ++i) {
     const auto& p = spec.parameters[i];
@@ -175,26 +168,69 @@ nlohmann::json point_identity(const SweepSpec& spec, const DesignPoint& pt) {
     }
     params.push_back(j);
   }
+  return params;
+}
+
+// What every point of the sweep shares: its render, camera and metric settings and its ROIs.
+nlohmann::json identity_settings(const SweepSpec& spec) {
   nlohmann::json full = spec.to_json();
   full["render"].erase("cache");  // where the render comes from does not change the result
   nlohmann::json rois = full["rois"];
   for (auto& r : rois)
     for (auto& t : r["textures"]) t["file"] = canonical_text(t["file"].get<std::string>());
-  // Bump identity_version whenever what a point computes changes, so old results are not reused
-  // (3: output bands default to the whole grid).
-  return {{"identity_version", 3},
-          {"scene", canonical_text(scene)},
-          {"scene_text", hex16(fnv1a(slurp(scene)))},
-          {"camera", canonical_text(camera)},
-          {"camera_text", hex16(fnv1a(slurp(camera)))},
-          {"parameters", params},
-          {"render", full["render"]},
-          {"camera_run", full["camera_run"]},
-          {"rois", rois},
-          {"metrics", full["metrics"]}};
+  return {{"render", full["render"]}, {"camera_run", full["camera_run"]}, {"rois", rois}, {"metrics", full["metrics"]}};
+}
+
+// Bump identity_version whenever what a point computes changes, so old results are not reused
+// (3: output bands default to the whole grid).
+nlohmann::json assemble_identity(const nlohmann::json& settings, const std::string& scene, const std::string& scene_hash,
+                                 const std::string& camera, const std::string& camera_hash, nlohmann::json params) {
+  nlohmann::json id = settings;
+  id["identity_version"] = 3;
+  id["scene"] = scene;
+  id["scene_text"] = scene_hash;
+  id["camera"] = camera;
+  id["camera_text"] = camera_hash;
+  id["parameters"] = std::move(params);
+  return id;
+}
+
+}  // namespace
+
+nlohmann::json point_identity(const SweepSpec& spec, const DesignPoint& pt) {
+  auto [scene, camera] = point_files(spec, pt);
+  return assemble_identity(identity_settings(spec), canonical_text(scene), hex16(fnv1a(slurp(scene))), canonical_text(camera),
+                           hex16(fnv1a(slurp(camera))), identity_parameters(spec, pt));
 }
 
 std::string point_key(const SweepSpec& spec, const DesignPoint& pt) { return hex16(fnv1a(point_identity(spec, pt).dump())); }
+
+PointKeys::PointKeys(const SweepSpec& spec) : spec_(spec), shared_(identity_settings(spec)) {}
+
+std::string PointKeys::key(const DesignPoint& pt) {
+  auto [scene, camera] = point_files(spec_, pt);
+  auto file = [&](const std::filesystem::path& f) -> const std::pair<std::string, std::string>& {
+    auto it = files_.find(f.string());
+    if (it == files_.end()) it = files_.emplace(f.string(), std::make_pair(canonical_text(f), hex16(fnv1a(slurp(f))))).first;
+    return it->second;
+  };
+  // The identity's text is the same for every point up to its "parameters" (objects dump their
+  // members sorted by name) and after them: hash the prefix once per pair of base files, then
+  // continue with this point's parameters and the suffix. FNV-1a is a running hash, so the key is
+  // exactly point_key's.
+  const auto& [scene_name, scene_hash] = file(scene);
+  const auto& [camera_name, camera_hash] = file(camera);
+  const std::string pair = scene_name + '\n' + camera_name;
+  auto it = frames_.find(pair);
+  if (it == frames_.end()) {
+    static const std::string kMark = "\x01parameters\x01";
+    std::string text = assemble_identity(shared_, scene_name, scene_hash, camera_name, camera_hash, kMark).dump();
+    const std::string mark = nlohmann::json(kMark).dump();
+    const size_t at = text.find(mark);
+    it = frames_.emplace(pair, Frame{fnv1a(text.substr(0, at)), text.substr(at + mark.size())}).first;
+  }
+  return hex16(fnv1a(it->second.suffix, fnv1a(identity_parameters(spec_, pt).dump(), it->second.prefix_hash)));
+}
 
 LoadedPoint load_point(const SweepSpec& spec, const DesignPoint& pt) {
   const std::string label = point_label(spec, pt);
@@ -263,11 +299,15 @@ PointOutcome evaluate_point(const SweepSpec& spec, const DesignPoint& pt, PointR
     *rkey = render_key(id);
     *cached = false;
     std::optional<RenderResult> out;
-    if (ctx.render_cache)
-      if (auto c = ctx.render_cache->load(*rkey)) {
+    if (ctx.render_cache) {
+      std::string damaged;
+      if (auto c = ctx.render_cache->load(*rkey, &damaged)) {
         out = RenderResult{std::move(c->image), c->stats};
         *cached = true;
+      } else if (!damaged.empty()) {
+        std::fprintf(stderr, "warning: %s\n", damaged.c_str());
       }
+    }
     if (!out) {
       out = render(scene, o);
       if (out->stats.interrupted) return std::nullopt;
@@ -467,7 +507,7 @@ PointOutcome evaluate_point(const SweepSpec& spec, const DesignPoint& pt, PointR
   CameraColor color = camera_color(cam, lo.front(), hi.back(), false);
   std::vector<float> rgb = raw_to_linear_srgb(run.raw.dn, W, H, run.meta.cfa, run.meta.black_level_dn,
                                               run.meta.white_level_dn, color, PreviewSettings{});
-  std::string png = thumbnail_png(rgb, W, H, spec.report.thumbnail_width, key);
+  std::string png = thumbnail_png(rgb, W, H, spec.report.thumbnail_width);
   // The ROIs over a grey version of the preview, so that a user can see what each ROI holds.
   std::vector<float> roi_rgb(rgb.size());
   double ex = auto_exposure(rgb);
@@ -481,7 +521,7 @@ PointOutcome evaluate_point(const SweepSpec& spec, const DesignPoint& pt, PointR
     }
     for (int k = 0; k < 3; ++k) roi_rgb[i * 3 + k] = c[k];
   }
-  std::string roi_png = thumbnail_png(roi_rgb, W, H, std::max(W, spec.report.thumbnail_width), key + "_roi", 1.0);
+  std::string roi_png = thumbnail_png(roi_rgb, W, H, std::max(W, spec.report.thumbnail_width), 1.0);
 
   nlohmann::ordered_json params;
   for (size_t i = 0; i < spec.parameters.size(); ++i) params[spec.parameters[i].name] = pt.values[i];

@@ -30,6 +30,23 @@ namespace ofl {
 
 // 16 hex digits (FNV-1a 64 of the point's canonical description).
 std::string point_key(const SweepSpec& spec, const DesignPoint& point);
+// The same keys for many points of one sweep: what every point shares (the sweep's settings, the
+// scene and camera files' text, hashed once per file) is computed once.
+class PointKeys {
+ public:
+  explicit PointKeys(const SweepSpec& spec);
+  std::string key(const DesignPoint& point);
+
+ private:
+  struct Frame {
+    uint64_t prefix_hash;  // of the identity's text before the parameters
+    std::string suffix;    // the text after them
+  };
+  const SweepSpec& spec_;
+  nlohmann::json shared_;                                           // render, camera_run, rois, metrics
+  std::map<std::string, std::pair<std::string, std::string>> files_;  // path -> (canonical name, text hash)
+  std::map<std::string, Frame> frames_;                             // per pair of base files
+};
 nlohmann::json point_identity(const SweepSpec& spec, const DesignPoint& point);  // what the key hashes
 
 class RenderCache;

@@ -85,6 +85,10 @@ std::string csv_field(const nlohmann::ordered_json& v) {
   return q + "\"";
 }
 
+void drop_report_only_members(nlohmann::ordered_json& result) {
+  for (const char* k : {"scatter", "reference", "thumbnail_png_base64", "roi_png_base64", "identity"}) result.erase(k);
+}
+
 ReportFiles write_sweep_report(const SweepSpec& spec, const std::vector<DesignPoint>& design,
                                const std::vector<std::optional<nlohmann::ordered_json>>& results,
                                const std::filesystem::path& out, const ReportOptions& options) {
@@ -98,6 +102,13 @@ ReportFiles write_sweep_report(const SweepSpec& spec, const std::vector<DesignPo
   std::vector<const nlohmann::ordered_json*> done;
   for (auto& r : results)
     if (r) done.push_back(&*r);
+  // Thumbnails and scatter plots for the first finished points only: a large design's page stays
+  // a page (every point is in the CSV, the JSON and the metric plots).
+  const std::vector<const nlohmann::ordered_json*> shown(done.begin(), done.begin() + std::min(done.size(), kReportPointsShown));
+  const std::string shown_note = shown.size() < done.size() ? "<p class=\"note\">The first " + std::to_string(shown.size()) +
+                                                                  " of the " + std::to_string(done.size()) +
+                                                                  " finished points; results.csv has them all.</p>\n"
+                                                            : std::string();
 
   // ---- CSV and JSON
   {
@@ -150,14 +161,14 @@ ReportFiles write_sweep_report(const SweepSpec& spec, const std::vector<DesignPo
   for (auto& p : spec.parameters) h << "<th>" << html_escape(p.name) << "</th>";
   for (auto& m : table_metrics) h << "<th>" << html_escape(first_roi + "." + m) << "</th>";
   h << "<th>spp</th><th>noise</th></tr>\n";
-  for (const auto* r : done) {
+  for (const auto* r : shown) {
     h << "<tr><td>" << (*r)["index"].get<int>() << "</td><td><img alt=\"point " << (*r)["index"].get<int>()
       << "\" src=\"data:image/png;base64," << r->value("thumbnail_png_base64", std::string()) << "\"></td>";
     for (auto& p : spec.parameters) h << "<td>" << short_number((*r)["parameters"][p.name]) << "</td>";
     for (auto& m : table_metrics) h << "<td>" << short_number(metric(*r, first_roi + "." + m)) << "</td>";
     h << "<td>" << (*r)["render"]["spp"].get<int>() << "</td><td>" << short_number((*r)["render"]["relative_noise"]) << "</td></tr>\n";
   }
-  h << "</table>\n";
+  h << "</table>\n" << shown_note;
 
   // Metrics against parameters.
   h << "<h2 id=\"metrics\">Metrics against parameters</h2>\n<p class=\"note\">One dot per finished point; the red line joins the "
@@ -222,14 +233,14 @@ ReportFiles write_sweep_report(const SweepSpec& spec, const std::vector<DesignPo
        "<code>oralfluor chroma</code> draws them. All panels share one window.</p>\n<p class=\"legend\">";
   for (size_t k = 0; k < style.rois.size(); ++k)
     h << "<span>" << swatch(roi_color(style.color[k])) << "ROI " << html_escape(style.rois[k]) << "</span>";
-  if (!done.empty() && done.front()->contains("reference")) {
-    const auto& lines = (*done.front())["reference"]["lines"];
+  if (!shown.empty() && shown.front()->contains("reference")) {
+    const auto& lines = (*shown.front())["reference"]["lines"];
     for (size_t i = 0; i < lines.size(); ++i)
       h << "<span>" << swatch(line_color(i)) << html_escape(lines[i]["fluorophore"].get<std::string>()) << "</span>";
   }
-  h << "</p>\n<div class=\"figs\">\n";
-  ChromaWindow win = common_chroma_window(done, style);
-  for (const auto* r : done) {
+  h << "</p>\n" << shown_note << "<div class=\"figs\">\n";
+  ChromaWindow win = common_chroma_window(shown, style);
+  for (const auto* r : shown) {
     h << "<figure>";
     VectorPlot cp = point_chroma_plot(*r, style, win);
     add_plot(cp);

@@ -23,6 +23,13 @@
 
 namespace ofl {
 
+// The points table and the per-point chromaticity plots show the first this many finished points.
+constexpr size_t kReportPointsShown = 500;
+
+// What the report needs of a point beyond the first kReportPointsShown: the heavy members
+// (thumbnails, the ROIs' cells) removed, so a large design's results fit in memory.
+void drop_report_only_members(nlohmann::ordered_json& result);
+
 struct ReportFiles {
   std::filesystem::path csv, json, html;
   int plots = 0;  // SVG plots in the HTML

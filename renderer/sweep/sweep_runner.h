@@ -6,8 +6,18 @@
 //  - Under mpirun the points left to do are dealt round-robin over the ranks; every rank renders,
 //    workers send each finished result to rank 0 as JSON over MPI (no shared filesystem needed),
 //    rank 0 stores them as they arrive and writes the report.
-//  - SIGINT/SIGTERM: the point being rendered is abandoned (nothing partial is stored), the report
-//    is written from what is finished, and the command exits with 130.
+//  - Before anything is rendered, the scenes and cameras of every point of a small design (up to
+//    kCheckAllPointsUpTo points), or of a large one the points that carry every level of every
+//    parameter (and each range's smallest and largest value), are loaded, so a value the loaders
+//    reject fails at once; the other points load when they run.
+//  - Sizing: the count of points to compute is printed before the first, and after the first point
+//    and again after the first kPointsTimed how long a point takes and what that means for the rest.
+//    A dry run computes only the keys (no loading beyond the check above) and lists the points of a
+//    small design, the first kDryRunListFirst of a large one, with counts.
+//  - Several sweeps in one folder share the work without computing a point twice (sweep_lock.h).
+//  - SIGINT/SIGTERM: in the checks before the first point the command stops at once (nothing to
+//    save); during a point, that point is abandoned (nothing partial is stored), the report is
+//    written from what is finished, and the command exits with 130.
 #pragma once
 #include <filesystem>
 #include <string>
@@ -15,6 +25,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "renderer/sweep/sweep_design.h"
 #include "renderer/sweep/sweep_spec.h"
 
 namespace ofl {
@@ -39,6 +50,13 @@ struct SweepRunSummary {
   std::filesystem::path out_dir, csv, json, html;
   nlohmann::json to_json() const;
 };
+
+constexpr int kCheckAllPointsUpTo = 64;
+constexpr size_t kDryRunListAll = 200, kDryRunListFirst = 20;
+constexpr int kPointsTimed = 3;
+
+// Which design points are loaded before anything is rendered (indices, ascending).
+std::vector<int> points_checked_up_front(const SweepSpec& spec, const std::vector<DesignPoint>& design);
 
 // Points of shard `shard` of `shards`: design indices i with i % shards == shard.
 std::vector<int> shard_indices(int points, int shard, int shards);

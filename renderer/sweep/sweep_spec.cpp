@@ -229,7 +229,7 @@ SweepSpec parse_sweep_spec(const JsonFile& f) {
     std::string t = d->choice_or("type", "grid", {"grid", "latin_hypercube"});
     if (t == "latin_hypercube") {
       s.design.type = DesignSpec::Type::kLatinHypercube;
-      s.design.points = d->at("points").integer(1, 1000000);
+      s.design.points = static_cast<int>(d->at("points").integer(1, kMaxSweepPoints));
       s.design.seed = static_cast<uint64_t>(d->integer_or("seed", 1, 0));
     } else if (d->has("points") || d->has("seed")) {
       d->fail("points and seed belong to a latin_hypercube design; a grid takes every combination");
@@ -246,8 +246,9 @@ SweepSpec parse_sweep_spec(const JsonFile& f) {
   if (s.design.type == DesignSpec::Type::kGrid) {
     double total = 1;
     for (auto& p : s.parameters) total *= p.levels();
-    if (total > 1e6) ps.fail("the full grid has " + std::to_string(static_cast<long long>(total)) +
-                             " points; use a latin_hypercube design");
+    if (total > kMaxSweepPoints)
+      ps.fail("the full grid has " + std::to_string(static_cast<long long>(total)) + " points, more than the " +
+              std::to_string(kMaxSweepPoints) + " a sweep can run; use fewer levels or a latin_hypercube design");
   }
 
   if (auto rs = root.find("rois")) {

@@ -95,6 +95,12 @@ struct CameraSettings {
   std::optional<uint64_t> seed;
 };
 
+// The most points a design may have (a grid's product of levels, a Latin hypercube's points): what
+// a run's bookkeeping handles in seconds - keys, the up-front checks, the manifest, the dry run and
+// the report, which shows every point in its CSV, JSON and plots and the first kReportPointsShown
+// with thumbnails and scatter plots (benchmarks/results.d/62_sweep_size.md measures it).
+constexpr int kMaxSweepPoints = 100000;
+
 struct DesignSpec {
   enum class Type { kGrid, kLatinHypercube } type = Type::kGrid;
   int points = 0;      // Latin hypercube: number of points

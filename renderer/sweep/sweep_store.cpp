@@ -35,6 +35,18 @@ std::optional<nlohmann::ordered_json> PointStore::load(const std::string& key) c
   }
 }
 
+bool PointStore::has(const std::string& key) const {
+  int fd = ::open(file_for(key).c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) return false;
+  char head[256] = {}, tail[2] = {};
+  const ssize_t n = ::pread(fd, head, sizeof head, 0);
+  const off_t size = ::lseek(fd, 0, SEEK_END);
+  const bool tail_ok = size >= 2 && ::pread(fd, tail, 2, size - 2) == 2 && tail[0] == '}' && tail[1] == '\n';
+  ::close(fd);
+  const std::string start(head, n > 0 ? size_t(n) : 0);
+  return tail_ok && start.rfind("{", 0) == 0 && start.find("\"key\": \"" + key + "\"") != std::string::npos;
+}
+
 void PointStore::save(const std::string& key, const nlohmann::ordered_json& result) const {
   write_file_atomic(file_for(key), result.dump(1) + "\n");
 }

@@ -29,7 +29,10 @@ class PointStore {
   std::filesystem::path file_for(const std::string& key) const;
   // The stored result when its file exists, parses and carries this key; nullopt otherwise.
   std::optional<nlohmann::ordered_json> load(const std::string& key) const;
-  bool has(const std::string& key) const { return load(key).has_value(); }
+  // Cheap (two small reads, no parse, so a dry run of a large design stays fast): the file exists,
+  // names this key in its first 256 bytes (every result starts with format, version and key) and
+  // ends like a whole JSON document. Writes are atomic, so only damage from outside makes has() and load() differ.
+  bool has(const std::string& key) const;
   void save(const std::string& key, const nlohmann::ordered_json& result) const;
   // Removes temporaries of dead processes on this host; returns how many.
   int remove_stale_temporaries() const;

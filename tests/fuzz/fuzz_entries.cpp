@@ -1,9 +1,12 @@
 #include "tests/fuzz/fuzz_entries.h"
+#include "tests/fuzz/diagnose_selection.h"
 
 #include <unistd.h>
 
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <stdexcept>
 #include <filesystem>
 #include <fstream>
 
@@ -15,6 +18,8 @@
 #include "renderer/diagnose/measurement_set.h"
 #include "renderer/image/image_file.h"
 #include "renderer/image/spectral_exr.h"
+#include "renderer/interop/iset_scene.h"
+#include "renderer/interop/iset_sensor.h"
 #include "renderer/interop/mat_file.h"
 #include "renderer/mesh/gltf_reader.h"
 #include "renderer/mesh/obj_reader.h"
@@ -74,6 +79,60 @@ fs::path as_file(const uint8_t* data, size_t size, const char* ext, const std::s
 
 std::string as_text(const uint8_t* data, size_t size) { return std::string(reinterpret_cast<const char*>(data), size); }
 
+// Round trips through ISETCam files: what oralfluor writes must read back as what it wrote. A
+// difference is a finding (std::logic_error), not an input error.
+[[noreturn]] void round_trip_failed(const std::string& what) { throw std::logic_error("ISETCam round trip: " + what); }
+
+// Radiance read back from an exported scene against the image exported: the same grid and bands,
+// every value within single precision (the scene stores photons as single).
+void compare_radiance(const SpectralImage& a, const SpectralImage& b) {
+  if (a.width != b.width || a.height != b.height) round_trip_failed("size changed");
+  if (a.band_nm.size() != b.band_nm.size()) round_trip_failed("band count changed");
+  for (size_t i = 0; i < a.band_nm.size(); ++i)
+    if (std::abs(a.band_nm[i] - b.band_nm[i]) > 1e-9 * std::abs(a.band_nm[i])) round_trip_failed("band centre changed");
+  for (size_t i = 0; i < a.data.size(); ++i) {
+    const double x = a.data[i], y = b.data[i];
+    if (!(std::abs(x - y) <= 4e-7 * std::max(std::abs(x), std::abs(y)) + 1e-37))
+      round_trip_failed("radiance value " + std::to_string(i) + " was " + std::to_string(x) + ", reads back " + std::to_string(y));
+  }
+}
+
+// An exported scene .mat read back (import-iset's reader).
+SpectralImage export_and_read_back(const SpectralImage& img, const IsetSceneOptions& opt) {
+  IsetScene scene = make_iset_scene(img, opt, "input.exr");
+  const fs::path mat = shadow_folder("") / "round_trip.mat";
+  write_iset_scene(mat, scene);
+  return read_iset_scene(mat);
+}
+
+// export-iset: a spectral EXR (any the reader accepts) to an ISETCam scene and back.
+void iset_export(const uint8_t* d, size_t n) {
+  SpectralImage img = read_spectral_exr(as_file(d, n, ".exr"));
+  IsetSceneOptions opt;
+  opt.distance_m = 0.3;  // an EXR without aov.depth or a field of view still exports with these
+  opt.hfov_deg = 20;
+  compare_radiance(img, export_and_read_back(img, opt));
+}
+
+// import-iset: an ISETCam .mat (scene or sensor). A scene that imports must export and import
+// again to the same radiance; a sensor that imports must give a camera file that loads.
+void iset_import(const uint8_t* d, size_t n) {
+  const fs::path file = as_file(d, n, ".mat");
+  bool sensor = false;
+  for (auto& [name, v] : read_mat_file(file))
+    if (v.kind == MatValue::Kind::kStruct) sensor = sensor || name == "sensor";
+  if (sensor) {
+    IsetSensorImport imp = import_iset_sensor(file);
+    parse_camera(JsonFile::from(imp.camera, file.string()).root());
+    return;
+  }
+  SpectralImage img = read_iset_scene(file);
+  IsetSceneOptions opt;
+  opt.distance_m = 0.3;
+  opt.hfov_deg = 20;
+  compare_radiance(img, export_and_read_back(img, opt));
+}
+
 }  // namespace
 
 const std::vector<Entry>& entries() {
@@ -111,6 +170,11 @@ const std::vector<Entry>& entries() {
        {"tests/fuzz/seeds/small_radiance.exr", "tests/data/bad_inputs/exr_huge_string.exr"}},
       {"image_png", ".png", [](const uint8_t* d, size_t n) { read_image_file(as_file(d, n, ".png")); },
        {"tests/data/bad_inputs/png_huge_header.png", "assets/textures/tongue_lesion.png"}},
+      {"diagnose_selection", ".bin", [](const uint8_t* d, size_t n) { run_diagnose_selection(d, n); },
+       {"tests/fuzz/seeds/diagnose_selection_spectra.bin", "tests/fuzz/seeds/diagnose_selection_edge.bin",
+        "tests/fuzz/seeds/diagnose_selection_set_aside.bin", "tests/fuzz/seeds/diagnose_selection_camera.bin"}},
+      {"iset_export", ".exr", iset_export, {"tests/fuzz/seeds/small_radiance.exr"}},
+      {"iset_import", ".mat", iset_import, {"tests/fuzz/seeds/small_scene.mat", "tests/fuzz/seeds/small_sensor.mat"}},
   };
   return e;
 }

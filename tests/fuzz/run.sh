@@ -9,7 +9,7 @@ set -eu
 cd "$(dirname "$0")/../.."
 SECONDS_EACH=${1:-60}
 [ $# -gt 0 ] && shift
-ENTRIES=${*:-"scene_json camera_json sweep_json spectrum_csv eem_csv mat diagnose_model diagnose_index gltf glb obj ies spectral_exr image_png"}
+ENTRIES=${*:-"scene_json camera_json sweep_json spectrum_csv eem_csv mat diagnose_model diagnose_index gltf glb obj ies spectral_exr image_png diagnose_selection iset_export iset_import"}
 B=build-fuzz
 cmake -S . -B $B -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++ -DOFL_FUZZ=ON > $B.configure.log 2>&1 || { cat $B.configure.log; exit 1; }
 for e in $ENTRIES; do cmake --build $B -j "${JOBS:-$(nproc)}" --target fuzz_$e; done

@@ -1,0 +1,421 @@
+// The spatial transport's vertex (see spatial_vertex.h).
+#include "renderer/render/spatial/spatial_vertex.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <glm/geometric.hpp>
+
+#include "renderer/render/spatial/spatial_tables.h"
+#include "renderer/render/spatial/surface_probe.h"
+#include "renderer/render/stack_response.h"
+
+namespace ofl {
+
+namespace {
+
+constexpr double kMmPerMetre = 1000.0;
+constexpr int kMaxSlices = 64;
+
+int pick_index(const double* w, int n, double u) {
+  double total = 0;
+  for (int i = 0; i < n; ++i) total += w[i];
+  double t = u * total;
+  for (int i = 0; i < n; ++i) {
+    if (t < w[i]) return i;
+    t -= w[i];
+  }
+  for (int i = n - 1; i >= 0; --i)
+    if (w[i] > 0) return i;
+  return 0;
+}
+
+int pick_axis(double u) {
+  return u < kProbeAxisProbability[0] ? 0 : u < kProbeAxisProbability[0] + kProbeAxisProbability[1] ? 1 : 2;
+}
+
+int pick_cosine(const StackProfiles::CosineWeights& cw, double u) { return u < cw.w[0] ? cw.c[0] : cw.c[1]; }
+
+// A point found by a probe, on the viewer's side: its authored normal must face the same way as
+// x_o's (on a closed, consistently wound mesh the far side of a thin part faces the other way: light
+// does not cross to it), and its normals are then turned as x_o's were. False: not on this side.
+bool same_side(SurfacePoint& s, const SurfacePoint& xo) {
+  const glm::dvec3 n_o = xo.flipped ? -xo.ng : xo.ng;
+  if (glm::dot(s.ng, n_o) <= 0) return false;
+  if (xo.flipped) {
+    s.ng = -s.ng;
+    s.ns = -s.ns;
+    s.flipped = true;
+  }
+  return true;
+}
+
+}  // namespace
+
+struct SpatialTransport::Vertex {
+  const SurfacePoint& xo;
+  unsigned geom;
+  const Frame& frame;
+  glm::dvec3 wo;
+  const MaterialTables& mt;
+  PathLanes& p;
+  const SpatialStack& S;
+  const StackResponse& R;
+  double mu_o = 1;
+  bool smooth = true;
+  double p_spec = 0;  // probability that the continuation is the top interface's reflection at x_o
+  int light = -1, group = 0;
+  double mu_i_proxy = 1;  // the light's cosine at x_o, standing in for its cosine at the entry point
+  SpatialStack::Cosines co, ci_proxy;  // the profiles' interpolation weights at mu_o and mu_i_proxy
+};
+
+struct SpatialTransport::Entry {
+  bool found = false;
+  bool fluorescent = false;
+  double q_nee = 1;             // probability that this strategy was run (its next-event estimates are divided by it)
+  double q_cont = 1;            // probability that the path continues from this entry (within the subsurface)
+  SurfacePoint xi;              // entry point, normals toward the viewer's side
+  int material = -1;            // governing material (elastic) or the emission point's (fluorescent)
+  double pdf = 0;               // elastic: area density of x_i (1/mm^2)
+  double r_mm = 0;              // elastic: |x_i - x_o|
+  int z = 0;                    // fluorescent: depth slice
+  double rho_m = 0, rho_i = 0;  // fluorescent: x_o to x_m (planar), x_m to x_i (mm)
+  double pdf_m = 0, pdf_i = 0;  // fluorescent: densities of (Z, x_m) and of x_i given x_m
+};
+
+bool SpatialTransport::spatial_material(int m) const {
+  return m >= 0 && t_.materials[m].stack.enabled && t_.materials[m].stack.spatial && t_.materials[m].stack.response;
+}
+
+LightSample SpatialTransport::connect(int li, const SurfacePoint& x, const Frame& f, Rng& rng, RayCounts& counts,
+                                      RayLog* log) const {
+  LightSample s;
+  const LedLight& led = scene_.lights[li];
+  glm::dvec3 lp = led.position;
+  if (!led.is_point()) {
+    glm::dvec2 d = sample_concentric_disk(rng.next_double(), rng.next_double()) * led.radius_m;
+    lp += d.x * led.tangent + d.y * led.bitangent;
+  }
+  const glm::dvec3 to = lp - x.p;
+  const double dist2 = glm::dot(to, to), dist = std::sqrt(dist2);
+  const glm::dvec3 wi_w = to / dist;
+  const double cos_l = -glm::dot(wi_w, led.axis);
+  const glm::dvec3 wi = f.to_local(wi_w);
+  if (!(cos_l > 0 && wi.z > 0 && glm::dot(wi_w, x.ng) > 0)) return s;
+  const glm::dvec3 o = EmbreeScene::offset(x, wi_w);
+  const float tmax = float(glm::length(lp - o) * (1.0 - 1e-4));
+  counts.shadow++;
+  record_ray(log, o, wi_w, tmax, true);
+  if (embree_.occluded(o, wi_w, tmax)) return s;
+  const double pl = t_.light_select.pdf(li);
+  s.valid = true;
+  s.light = li;
+  s.group = t_.light_group[li];
+  s.wi = wi;
+  s.g = led.profile.eval(cos_l) * wi.z / dist2 / pl * t_.light_scale[li];
+  s.pdf_solid = led.is_point() ? 0.0 : pl * dist2 / (led.area() * cos_l);
+  return s;
+}
+
+// Next-event estimation of the top interface's specular lobe at x_o (rough tops; a smooth top's
+// mirror is found by the continuation).
+void SpatialTransport::top_light(Vertex& v, Rng& rng, RayCounts& counts, RayLog* log) const {
+  if (v.smooth || scene_.lights.empty()) return;
+  const int li = t_.light_select.sample(rng.next_double());
+  const LightSample ls = connect(li, v.xo, v.frame, rng, counts, log);
+  if (!ls.valid) return;
+  const GgxCoating& lobe = v.mt.stack.top_lobe;
+  const double mis = ls.pdf_solid > 0 ? power_heuristic(ls.pdf_solid, v.p_spec * lobe.pdf(v.wo, ls.wi)) : 1.0;
+  const double fs = v.mt.stack.top.reflection(v.wo, ls.wi);
+  const float* shape = t_.light_shape[ls.group].data();
+  for (int k = 0; k < kLanes; ++k) v.p.add(k, v.p.beta[k] * fs * shape[v.p.wl[k]] * ls.g * mis);
+}
+
+// How the two subsurface strategies are run (spatial_vertex.h): what each is expected to add by
+// next-event estimation (position-free, at the light's cosine at x_o) and to carry on into the
+// continuation (the table's albedos at the viewer's cosine), over the lanes.
+SpatialTransport::Plan SpatialTransport::plan(const Vertex& v) const {
+  Plan pl;
+  const bool fluorescent = v.S.fluorescent && !v.R.fluor.empty();
+  const auto a = v.R.weights(v.mu_o), b = v.R.weights(v.mu_i_proxy);
+  const float* shape = v.light >= 0 ? t_.light_shape[v.group].data() : nullptr;
+  double nee_el = 0, nee_fl = 0, cont_el = 0, cont_fl = 0;
+  for (int k = 0; k < kLanes; ++k) {
+    const double beta = v.p.beta[k];
+    if (beta == 0) continue;
+    const int wl = v.p.wl[k];
+    if (shape) nee_el += beta * v.R.elastic_at(a, b, wl) * shape[wl];
+    if (shape && fluorescent && !v.R.direct.empty()) nee_fl += beta * v.R.direct_at(v.group, a, b, wl);
+    cont_el += beta * v.R.elastic_at(a, a, wl);
+    if (fluorescent) cont_fl += beta * v.R.fluor_sum_at(a, a, wl);
+  }
+  // The continuation: top reflection with p_spec, else one entry, in proportion to what it carries
+  // (kept within [0.1, 0.9] when both carry something).
+  const double c_fl = cont_el + cont_fl > 0 ? cont_fl / (cont_el + cont_fl) : 0.0;
+  pl.cont_fl = cont_fl > 0 && cont_el > 0 ? std::clamp(c_fl, 0.1, 0.9) : (cont_fl > 0 ? 1.0 : 0.0);
+  // Next-event estimation: the strategy expected to add more always runs, the other in proportion
+  // (at least a tenth of the time), and each runs anyway when the path continues from its entry.
+  const double top = std::max(nee_el, nee_fl);
+  pl.run_el = top > 0 ? std::clamp(nee_el / top, nee_el > 0 ? 0.1 : 0.0, 1.0) : 0.0;
+  pl.run_fl = top > 0 ? std::clamp(nee_fl / top, nee_fl > 0 ? 0.1 : 0.0, 1.0) : 0.0;
+  return pl;
+}
+
+SpatialTransport::Entry SpatialTransport::sample_elastic(Vertex& v, Rng& rng, RayCounts& counts) const {
+  Entry e;
+  // The lanes' mixture: half in proportion to the throughput, half to the reflected light each lane is
+  // expected to get from the chosen LED (so that the LED's own band, which carries most reflected
+  // light, samples its own short profile), at the light's cosine at x_o.
+  double alpha[kLanes], lit[kLanes], bsum = 0, lsum = 0;
+  const auto a = v.R.weights(v.mu_o), b = v.R.weights(v.mu_i_proxy);
+  const float* shape = v.light >= 0 ? t_.light_shape[v.group].data() : nullptr;
+  for (int k = 0; k < kLanes; ++k) {
+    lit[k] = shape && v.p.beta[k] > 0 ? v.p.beta[k] * v.R.elastic_at(a, b, v.p.wl[k]) * shape[v.p.wl[k]] : 0.0;
+    bsum += v.p.beta[k];
+    lsum += lit[k];
+  }
+  if (!(bsum > 0)) return e;
+  double asum = 0;
+  for (int k = 0; k < kLanes; ++k) asum += alpha[k] = 0.2 * v.p.beta[k] / bsum + 0.8 * (lsum > 0 ? lit[k] / lsum : v.p.beta[k] / bsum);
+  const int k = pick_index(alpha, kLanes, rng.next_double());
+  const int c = pick_cosine(v.co, rng.next_double());
+  const double r = radial::sample(v.S.el_rings(), &v.S.el_cdf[v.S.el_at(c, v.p.wl[k])], rng.next_double(), rng.next_double());
+  const double phi = 2.0 * kPi * rng.next_double();
+  const int axis = pick_axis(rng.next_double());
+  ++counts.probe;
+  const ProbeResult pr = probe_around(embree_, v.geom, v.xo.p, v.frame, r, phi, axis, v.S.search_mm, rng.next_double());
+  if (!pr.found) return e;
+  e.xi = pr.sp;
+  if (!same_side(e.xi, v.xo)) return e;
+  e.pdf = probe_density(v.xo.p, v.frame, e.xi, pr.hits, [&](double rr) {
+    const int ring = v.S.el_rings().ring_of(rr);
+    if (ring < 0) return 0.0;
+    double d = 0;
+    for (int j = 0; j < kLanes; ++j)
+      if (alpha[j] > 0) d += alpha[j] * v.S.elastic_density_in(v.co, v.p.wl[j], ring);
+    return d / asum;
+  });
+  e.r_mm = glm::length(e.xi.p - v.xo.p) * kMmPerMetre;
+  const int mi = e.xi.material;
+  if (!spatial_material(mi) || !(e.pdf > 0)) return e;
+  // Reflected light is governed by the material where it entered (docs/layered-tissue.md, "Regions
+  // and lateral transport": against the 3D Monte Carlo of a lesion disc this rule is within the noise,
+  // the exit point's material is not).
+  e.material = mi;
+  e.found = true;
+  return e;
+}
+
+SpatialTransport::Entry SpatialTransport::sample_fluorescent(Vertex& v, Rng& rng, RayCounts& counts) const {
+  Entry e;
+  e.fluorescent = true;
+  const SpatialStack& S = v.S;
+  const int Z = std::min(S.Z, kMaxSlices);
+  // Per lane, the depth weights of its direct fluorescence (at the light's cosine at x_o) and the
+  // lane's share of the proposal.
+  double omega[kLanes][kMaxSlices], alpha[kLanes], asum = 0;
+  for (int k = 0; k < kLanes; ++k) {
+    alpha[k] = 0;
+    if (v.p.beta[k] == 0) continue;
+    S.slice_weights(v.group, v.co, v.ci_proxy, v.p.wl[k], omega[k]);
+    double total = 0;
+    for (int z = 0; z < Z; ++z) total += omega[k][z];
+    if (!(total > 0)) continue;
+    for (int z = 0; z < Z; ++z) omega[k][z] /= total;
+    alpha[k] = v.p.beta[k] * total;
+    asum += alpha[k];
+  }
+  if (!(asum > 0)) return e;
+  const int k = pick_index(alpha, kLanes, rng.next_double());
+  const int z = pick_index(omega[k], Z, rng.next_double());
+  const int c = pick_cosine(v.co, rng.next_double());
+  const double rho = radial::sample(S.leg_rings(), &S.leg_cdf[S.leg_at(c, v.p.wl[k], z)], rng.next_double(), rng.next_double());
+  const double phi = 2.0 * kPi * rng.next_double();
+  e.z = z;
+  e.rho_m = rho;
+  e.pdf_m = 0;
+  const int ring = S.leg_rings().ring_of(rho);
+  for (int j = 0; j < kLanes && ring >= 0; ++j)
+    if (alpha[j] > 0) e.pdf_m += alpha[j] / asum * omega[j][z] * S.emission_density_in(v.co, v.p.wl[j], z, ring);
+  // The surface above the emission point: the mesh's crossing nearest to x_o's tangent plane.
+  const glm::dvec3 mid = v.xo.p + (rho / kMmPerMetre) * (std::cos(phi) * v.frame.x + std::sin(phi) * v.frame.y);
+  const double h = S.search_mm / kMmPerMetre;
+  SurfacePoint hits[kMaxProbeHits];
+  ++counts.probe;
+  const int nh = probe_segment(embree_, v.geom, mid + h * v.frame.z, mid - h * v.frame.z, hits);
+  if (nh == 0) return e;
+  int best = -1;
+  for (int i = 0; i < nh; ++i)
+    if (same_side(hits[i], v.xo) && (best < 0 || glm::length(hits[i].p - mid) < glm::length(hits[best].p - mid))) best = i;
+  if (best < 0) return e;
+  const SurfacePoint& xm = hits[best];
+  if (!spatial_material(xm.material)) return e;
+  e.material = xm.material;
+  // The entry point: the excitation leg of the emission point's material from x_m.
+  const SpatialStack& Sm = *t_.materials[xm.material].stack.spatial;
+  const Frame fm(xm.ng);
+  const int ci = pick_cosine(v.ci_proxy, rng.next_double());
+  const double r = radial::sample(Sm.leg_rings(), &Sm.ex_cdf[Sm.ex_at(v.group, ci, z)], rng.next_double(), rng.next_double());
+  const double phi_i = 2.0 * kPi * rng.next_double();
+  const int axis = pick_axis(rng.next_double());
+  ++counts.probe;
+  const ProbeResult pr = probe_around(embree_, v.geom, xm.p, fm, r, phi_i, axis, Sm.search_mm, rng.next_double());
+  if (!pr.found) return e;
+  e.xi = pr.sp;
+  if (!same_side(e.xi, v.xo)) return e;
+  e.pdf_i = probe_density(xm.p, fm, e.xi, pr.hits, [&](double rr) { return Sm.excitation_density(v.group, v.ci_proxy, z, rr); });
+  e.rho_i = glm::length(e.xi.p - xm.p) * kMmPerMetre;
+  e.found = spatial_material(e.xi.material) && e.pdf_m > 0 && e.pdf_i > 0;
+  return e;
+}
+
+// Next-event estimation from the entry point: the chosen strategy's lanes.
+void SpatialTransport::entry_light(Vertex& v, Entry& e, Rng& rng, RayCounts& counts, RayLog* log) const {
+  if (v.light < 0) return;
+  const Frame fi(e.xi.ns);
+  const LightSample ls = connect(v.light, e.xi, fi, rng, counts, log);
+  if (!ls.valid) return;
+  const MaterialTables& m = t_.materials[e.material];
+  const SpatialStack& S = *m.stack.spatial;
+  const StackResponse& R = *m.stack.response;
+  const auto a = R.weights(v.mu_o), b = R.weights(ls.wi.z);
+  const auto ci = S.cosines(ls.wi.z);
+  const float* shape = t_.light_shape[ls.group].data();
+  if (!e.fluorescent) {
+    const double cont = (1.0 - v.p_spec) * cosine_hemisphere_pdf(ls.wi.z) * e.q_cont / e.q_nee;
+    const double mis = ls.pdf_solid > 0 ? power_heuristic(ls.pdf_solid, cont) : 1.0;
+    for (int k = 0; k < kLanes; ++k) {
+      if (v.p.beta[k] == 0) continue;
+      const int wl = v.p.wl[k];
+      const double f = R.elastic_at(a, b, wl) * S.elastic_density(v.co, wl, e.r_mm) / e.pdf;
+      v.p.add(k, v.p.beta[k] * f * shape[wl] * ls.g * mis / e.q_nee);
+    }
+    return;
+  }
+  if (R.direct.empty()) return;
+  const double legs = S.excitation_density(ls.group, ci, e.z, e.rho_i) / (e.pdf_m * e.pdf_i);
+  for (int k = 0; k < kLanes; ++k) {
+    if (v.p.beta[k] == 0) continue;
+    const int em = v.p.wl[k];
+    const double total = S.slice_sum(ls.group, v.co, ci, em);
+    if (!(total > 0)) continue;
+    const double depth = S.slice_weight(ls.group, v.co, ci, em, e.z) / total;
+    const double f = R.direct_at(ls.group, a, b, em) * depth * S.emission_density(v.co, em, e.z, e.rho_m) * legs;
+    const double add = v.p.beta[k] * f * ls.g / e.q_nee;
+    v.p.L[k] += float(add);
+    v.p.Lf[k] += float(add);
+  }
+}
+
+// The continuation from the entry point (cosine lobe), carrying the strategy's lanes.
+SpatialScatter SpatialTransport::continue_at_entry(Vertex& v, Entry& e, Rng& rng) const {
+  SpatialScatter c;
+  const glm::dvec3 wi = sample_cosine_hemisphere(rng.next_double(), rng.next_double());
+  const Frame fi(e.xi.ns);
+  const glm::dvec3 wi_w = fi.to_world(wi);
+  if (!(wi.z > 0) || glm::dot(wi_w, e.xi.ng) <= 0) return c;
+  const double pdf = (1.0 - v.p_spec) * cosine_hemisphere_pdf(wi.z);
+  const MaterialTables& m = t_.materials[e.material];
+  const SpatialStack& S = *m.stack.spatial;
+  const StackResponse& R = *m.stack.response;
+  const auto a = R.weights(v.mu_o), b = R.weights(wi.z);
+  const auto ci = S.cosines(wi.z);
+  const double geo = wi.z / (pdf * e.q_cont);
+  const double legs = e.fluorescent ? S.excitation_density(v.group, ci, e.z, e.rho_i) / (e.pdf_m * e.pdf_i) : 0.0;
+  bool any = false;
+  for (int k = 0; k < kLanes; ++k) {
+    if (v.p.beta[k] == 0) continue;
+    const int em = v.p.wl[k];
+    double f = 0;
+    if (!e.fluorescent) {
+      f = R.elastic_at(a, b, em) * S.elastic_density(v.co, em, e.r_mm) / e.pdf;
+      v.p.rerad_prev[k] = false;
+    } else if (!R.fluor.empty()) {
+      const double total = S.slice_sum(v.group, v.co, ci, em);
+      if (total > 0)
+        f = R.fluor_sum_at(a, b, em) * S.slice_weight(v.group, v.co, ci, em, e.z) / total *
+            S.emission_density(v.co, em, e.z, e.rho_m) * legs;
+      if (f > 0) {
+        v.p.wl[k] = R.sample_excitation(a, b, em, rng.next_double(), rng.next_float());
+        v.p.fl[k] = true;
+        v.p.rerad_prev[k] = true;  // next-event estimation summed the LED's direct excitation
+      }
+    }
+    v.p.beta[k] = float(v.p.beta[k] * f * geo);
+    any = any || v.p.beta[k] > 0;
+  }
+  if (!any) return c;
+  c.ok = true;
+  c.from = e.xi;
+  c.wi_world = wi_w;
+  c.pdf = e.fluorescent ? 0.0 : pdf * e.q_cont / e.q_nee;  // as the next-event MIS weighs it
+  return c;
+}
+
+// The continuation by the top interface at x_o: the Fresnel mirror (smooth) or the GGX lobe (rough).
+SpatialScatter SpatialTransport::continue_at_top(Vertex& v, Rng& rng) const {
+  SpatialScatter c;
+  c.from = v.xo;
+  c.reflected = true;
+  for (int k = 0; k < kLanes; ++k) v.p.rerad_prev[k] = false;
+  if (v.smooth) {  // probability F, value F: weight 1
+    c.ok = true;
+    c.wi_world = v.frame.to_world(glm::dvec3(-v.wo.x, -v.wo.y, v.wo.z));
+    return c;
+  }
+  const GgxCoating& lobe = v.mt.stack.top_lobe;
+  const glm::dvec3 wi = lobe.sample(v.wo, rng.next_double(), rng.next_double());
+  if (!(wi.z > 0)) return c;
+  const double pdf = v.p_spec * lobe.pdf(v.wo, wi);
+  if (!(pdf > 0)) return c;
+  const double w = v.mt.stack.top.reflection(v.wo, wi) * wi.z / pdf;
+  for (int k = 0; k < kLanes; ++k) v.p.beta[k] = float(v.p.beta[k] * w);
+  c.ok = true;
+  c.wi_world = v.frame.to_world(wi);
+  c.pdf = pdf;
+  return c;
+}
+
+SpatialScatter SpatialTransport::scatter(const SurfacePoint& xo, unsigned geom, const Frame& frame, const glm::dvec3& wo,
+                                         const MaterialTables& mt, PathLanes& p, Rng& rng, RayCounts& counts,
+                                         RayLog* log) const {
+  const StackTables& st = mt.stack;
+  Vertex v{xo, geom, frame, wo, mt, p, *st.spatial, *st.response};
+  v.mu_o = std::clamp(wo.z, 1e-4, 1.0);
+  v.smooth = st.top.smooth();
+  v.p_spec = v.smooth ? fresnel_dielectric(v.mu_o, st.layers[0].ior / st.ambient_ior)
+                      : std::clamp(st.top_lobe.specular_albedo(v.mu_o), 0.05, 0.95);
+  top_light(v, rng, counts, log);
+  // The subsurface light: one LED chosen by power; its cosine at x_o stands in for the one at x_i.
+  if (!scene_.lights.empty()) {
+    v.light = t_.light_select.sample(rng.next_double());
+    v.group = t_.light_group[v.light];
+    const glm::dvec3 to = glm::normalize(scene_.lights[v.light].position - xo.p);
+    v.mu_i_proxy = std::clamp(glm::dot(to, xo.ns), 0.05, 1.0);
+  }
+  v.co = v.S.cosines(v.mu_o);
+  v.ci_proxy = v.S.cosines(v.mu_i_proxy);
+  // Which entry the path continues from (if not from the top), then which strategies run.
+  const Plan pl = plan(v);
+  const bool top = rng.next_double() < v.p_spec;
+  const bool cont_fl = !top && rng.next_double() < pl.cont_fl;
+  const bool cont_el = !top && !cont_fl;
+  Entry entries[2];
+  for (int f = 0; f < 2; ++f) {
+    const bool fl = f == 1;
+    const double c = (1.0 - v.p_spec) * (fl ? pl.cont_fl : 1.0 - pl.cont_fl), run = fl ? pl.run_fl : pl.run_el;
+    const bool chosen = fl ? cont_fl : cont_el;
+    if (!chosen && !(rng.next_double() < run)) continue;
+    Entry& e = entries[f];
+    e = fl ? sample_fluorescent(v, rng, counts) : sample_elastic(v, rng, counts);
+    e.q_nee = c + (1.0 - c) * run;
+    e.q_cont = fl ? pl.cont_fl : 1.0 - pl.cont_fl;
+    if (e.found) entry_light(v, e, rng, counts, log);
+  }
+  if (top) return continue_at_top(v, rng);
+  Entry& e = entries[cont_fl ? 1 : 0];
+  if (!e.found || !(e.q_cont > 0)) return {};
+  return continue_at_entry(v, e, rng);
+}
+
+}  // namespace ofl
