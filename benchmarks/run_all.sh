@@ -42,24 +42,32 @@ PY
   echo
   echo "Command: \`$build/speed --threads 2\`. The renderer and Embree alone are timed in the same run:"
   echo "the rays of a render are recorded and traced again with \`rtcIntersect1\`/\`rtcOccluded1\` only."
-  echo "pbrt-v4 figures are those of \`../shared/bench/README.md\` for this machine kind (2 threads, 4"
-  echo "wavelengths per camera sample); pbrt-v4 is not installed here, so that ratio is not measured in one run."
+  echo "Stages: the renderer's own clock marks (\`RayCounts\` in \`renderer/render/path_tracer.h\`) in a"
+  echo "render of a quarter of the samples; 'covered' is the share of the threads' wall time the marks see."
+  echo "The side-by-side comparison with pbrt-v4 is \`benchmarks/vs_pbrt.sh\` (section \"oralfluor and pbrt-v4\")."
+  echo "Load average (1 min) before: $(cut -d' ' -f1 /proc/loadavg) on $(nproc) cores."
   echo
   "$build/speed" --threads 2 --json > "$tmp/speed.json"
   python3 - "$tmp/speed.json" <<'PY'
 import json, sys
 rs = json.load(open(sys.argv[1]))
-pbrt = {"tongue_mouth.json": 0.26e6, "flat_patch.json": 1.7e6}
-print("| scene | triangles | spp | camera samples/s | wavelength samples/s | rays/s | rays/sample | Embree alone, same rays | time in Embree | vs pbrt-v4 (README) |")
-print("|---|---|---|---|---|---|---|---|---|---|")
+print("| scene | triangles | spp | camera samples/s | wavelength samples/s | rays/s | rays/sample | Embree alone, same rays | time in Embree |")
+print("|---|---|---|---|---|---|---|---|---|")
 for r in rs:
     name = r["scene"].split("/")[-1]
-    ref = pbrt.get(name)
-    ratio = f"{r['camera_samples_per_second']/ref:.2f}x of {ref/1e6:.2f} M/s" if ref else "-"
     print(f"| {name} | {r['triangles']} | {r['spp']} | {r['camera_samples_per_second']/1e6:.3f} M | {r['wavelength_samples_per_second']/1e6:.2f} M ({r['wavelengths_per_sample']}/sample) | "
           f"{r['rays_per_second']/1e6:.2f} M | {r['rays_per_camera_sample']:.2f} | {r['embree_rays_per_second_same_mix']/1e6:.2f} M/s | "
-          f"{100*r['share_of_time_in_embree']:.0f} % | {ratio} |")
+          f"{100*r['share_of_time_in_embree']:.0f} % |")
+print()
+stages = [s["stage"] for s in rs[0]["stages"]["shares"]]
+print("| scene | " + " | ".join(stages) + " | covered |")
+print("|---|" + "---|" * (len(stages) + 1))
+for r in rs:
+    st = r["stages"]
+    print(f"| {r['scene'].split('/')[-1]} | " + " | ".join(f"{100*s['share']:.1f} %" for s in st["shares"]) +
+          f" | {100*st['marked_share_of_thread_time']:.0f} % |")
 PY
+  echo "Load average (1 min) after: $(cut -d' ' -f1 /proc/loadavg)."
   echo
   echo "## Fluorescence"
   echo

@@ -1,8 +1,11 @@
 // Speed of the path tracer on the reference scenes of shared/bench/README.md, as ratios measured in
 // one run: the renderer's camera samples/s and rays/s, and Embree's own rtcIntersect1/rtcOccluded1
 // throughput on the same rays (recorded from the renderer), which gives the share of render time
-// spent inside Embree.
+// spent inside Embree; and where the time goes, stage by stage, from the renderer's own clock
+// marks (RayCounts in renderer/render/path_tracer.h) in a shorter render of the same scene.
 //   usage: speed [--threads N] [--spp N] [--json] [scene.json ...]
+// Default scenes: the matched tongue-in-mouth scene and the flat patch of benchmarks/scenes/peers/,
+// and scenes/dark_spot_405.json (layered tissue).
 #include <tbb/blocked_range.h>
 #include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
@@ -59,6 +62,40 @@ std::pair<double, double> embree_seconds_per_ray(const EmbreeScene& es, const Ra
   return {run(isect, false), run(occl, true)};
 }
 
+// Time-stamp ticks per second of stage_clock(), against steady_clock over 0.2 s.
+double clock_ticks_per_second() {
+  auto t0 = Clock::now();
+  uint64_t c0 = stage_clock();
+  while (Clock::now() - t0 < std::chrono::milliseconds(200)) {
+  }
+  return double(stage_clock() - c0) / std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+// Share of each stage in the ticks of a render with clock marks on (a quarter of the samples), and
+// how much of the threads' wall time the marks cover (the rest: tile loop, film accumulation,
+// scheduling, waiting for other processes on a shared machine).
+nlohmann::json stage_profile(const Scene& scene, int threads) {
+  Scene part = scene;
+  part.integrator.spp = std::max(2, scene.integrator.spp / 4);
+  RenderOptions o;
+  o.progress = false;
+  o.aovs = false;
+  o.time_stages = true;
+  RenderResult r;
+  {
+    tbb::global_control gc(tbb::global_control::max_allowed_parallelism, threads);
+    r = render(part, o);
+  }
+  const RayCounts& c = r.stats.rays;
+  double total = 0;
+  for (int i = 0; i < kStages; ++i) total += double(c.ticks[i]);
+  nlohmann::json shares = nlohmann::json::array();  // in stage order
+  for (int i = 0; i < kStages; ++i) shares.push_back({{"stage", stage_name(i)}, {"share", total > 0 ? c.ticks[i] / total : 0.0}});
+  const double covered = total / clock_ticks_per_second() / (threads * r.stats.seconds);
+  return {{"shares", shares}, {"marked_share_of_thread_time", covered},
+          {"camera_samples_per_second_with_marks", r.stats.samples_per_second()}};
+}
+
 nlohmann::json measure(const std::string& file, int spp, int threads) {
   SceneOverrides ov;
   if (spp > 0) ov.spp = spp;
@@ -112,7 +149,8 @@ nlohmann::json measure(const std::string& file, int spp, int threads) {
           {"embree_occluded_rays_per_second", per_ray.second > 0 ? 1.0 / per_ray.second : 0.0},
           {"embree_rays_per_second_same_mix", embree_rays_per_s},
           {"share_of_time_in_embree", embree_s / s.seconds},
-          {"recorded_rays", log.rays.size()}};
+          {"recorded_rays", log.rays.size()},
+          {"stages", stage_profile(scene, threads)}};
 }
 
 }  // namespace
@@ -128,8 +166,11 @@ int main(int argc, char** argv) {
     else if (a == "--json") json = true;
     else scenes.push_back(a);
   }
-  if (scenes.empty())
-    scenes = {std::string(OFL_SOURCE_DIR) + "/benchmarks/scenes/tongue_mouth.json", std::string(OFL_SOURCE_DIR) + "/benchmarks/scenes/flat_patch.json"};
+  if (scenes.empty()) {
+    const std::string root = OFL_SOURCE_DIR;
+    scenes = {root + "/benchmarks/scenes/peers/tongue_mouth_matched.json", root + "/benchmarks/scenes/peers/flat_patch_matched.json",
+              root + "/scenes/dark_spot_405.json"};
+  }
   nlohmann::json all = nlohmann::json::array();
   for (auto& s : scenes) {
     auto r = measure(s, spp, threads);
@@ -143,6 +184,11 @@ int main(int argc, char** argv) {
                   r["rays_per_second"].get<double>() * 1e-6, r["rays_per_camera_sample"].get<double>(),
                   r["embree_intersect_rays_per_second"].get<double>() * 1e-6, r["embree_occluded_rays_per_second"].get<double>() * 1e-6,
                   100 * r["share_of_time_in_embree"].get<double>());
+    if (!json) {
+      std::printf("  stages (clock marks, %.0f%% of thread time covered):", 100 * r["stages"]["marked_share_of_thread_time"].get<double>());
+      for (auto& st : r["stages"]["shares"]) std::printf(" %s %.1f%%,", st["stage"].get<std::string>().c_str(), 100 * st["share"].get<double>());
+      std::printf("\n");
+    }
   }
   if (json) std::printf("%s\n", all.dump(2).c_str());
   return 0;

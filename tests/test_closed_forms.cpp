@@ -32,4 +32,5 @@ TEST(ClosedFormAov, IrradiancePlaneIsExact) {
   EXPECT_LT(r.extra["aov_irradiance_max_rel_error"].get<double>(), 1e-4);
 }
 
-INSTANTIATE_TEST_SUITE_P(Cases, ClosedForm, ::testing::Values("lambert_point_led", "flatpatch", "disk_led", "closed_sphere"));
+INSTANTIATE_TEST_SUITE_P(Cases, ClosedForm, ::testing::Values("lambert_point_led", "flatpatch", "disk_led", "closed_sphere", "spot_leds",
+                                                              "spot_furnace"));

@@ -103,6 +103,26 @@ TEST(Sampling, DiscreteDistribution) {
   EXPECT_GT(test::chi_square(obs, exp).p_value, 1e-4);
 }
 
+// The guide table changes how the bin is found, not which: the same bin as the binary search for
+// random u, for u at and next to every CDF entry (where rounding could send the guide astray), with
+// zero-weight bins, one bin, and a guide of one entry per bin.
+TEST(Sampling, GuidedSamplerGivesTheBinarySearchBin) {
+  const std::vector<std::vector<double>> cases = {
+      {0.5, 0, 3, 1, 0.25, 2, 0, 7}, {1}, {0, 0, 1, 0}, {1e-9, 1, 1e-9, 0, 0, 5, 1e-12}};
+  Rng rng(4, 8);
+  for (const auto& w : cases)
+    for (int per_bin : {1, 4}) {
+      DiscreteDistribution d(w);
+      GuidedSampler g(d, per_bin);
+      std::vector<double> us = {0.0, 0.5, 1.0 - 1e-16};
+      for (double c : d.cdf)
+        for (double u : {c, std::nextafter(c, 0.0), std::nextafter(c, 1.0)})
+          if (u >= 0 && u < 1) us.push_back(u);
+      for (int i = 0; i < 100000; ++i) us.push_back(rng.next_double());
+      for (double u : us) ASSERT_EQ(g.sample(u), d.sample(u)) << "u " << u << " per_bin " << per_bin;
+    }
+}
+
 class GgxSampling : public ::testing::TestWithParam<std::tuple<double, double>> {};
 
 TEST_P(GgxSampling, VisibleNormalSamplingMatchesPdf) {

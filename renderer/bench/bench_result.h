@@ -34,6 +34,7 @@ struct BenchOptions {
   uint64_t seed = 1;
   bool sampled_excitation = false;  // sample excitation wavelengths instead of summing them
   std::string importance_camera;    // sample camera wavelengths by this camera's system QE (half)
+  std::string light_selection;      // integrator "light_selection" ("reach", "power"); empty: default
 };
 
 }  // namespace ofl

@@ -130,6 +130,7 @@ json base_scene(const BenchOptions& o, int max_depth, double gmin, double gmax, 
             {"wavelengths", {{"min_nm", gmin}, {"max_nm", gmax}, {"step_nm", 5}}},
             {"output_bands", {{"min_nm", 400}, {"max_nm", 700}, {"step_nm", band_step}}}}}};
   if (!o.importance_camera.empty()) j["integrator"]["importance_camera"] = o.importance_camera;
+  if (!o.light_selection.empty()) j["integrator"]["light_selection"] = o.light_selection;
   return j;
 }
 

@@ -10,6 +10,7 @@
 #include "renderer/core/error.h"
 #include "renderer/core/json_node.h"
 #include "renderer/render/render_job.h"
+#include "renderer/render/sampling.h"
 #include "renderer/spectral/units.h"
 
 namespace ofl {
@@ -62,6 +63,93 @@ BenchResult lambert_point_led(const BenchOptions& o) {
       worst = std::max(worst, std::fabs(irr[size_t(y) * c.width + x] - e) / e);
     }
   b.extra["aov_irradiance_max_rel_error"] = worst;
+  return finish(b, r, o);
+}
+
+// pbrt-v4's spot shape as an angle table (0.5 degree steps): 1 inside `inner`, smoothstep in cos
+// down to 0 at `outer`, 0 beyond.
+json spot_profile(double inner_deg, double outer_deg) {
+  json rows = json::array();
+  const double ci = std::cos(inner_deg * kPi / 180), co = std::cos(outer_deg * kPi / 180);
+  for (int i = 0; i <= 180; ++i) {
+    const double c = std::cos(i * 0.5 * kPi / 180), t = std::clamp((c - co) / (ci - co), 0.0, 1.0);
+    rows.push_back({i * 0.5, t * t * (3 - 2 * t)});
+  }
+  return {{"table", rows}};
+}
+
+// Unoccluded irradiance per unit I0 S(lambda) of a disk LED at a point of the plane z = 0 (normal
+// +z), by a 16 x 16 midpoint rule over the disk: the mean over the disk of P(theta) cos / r^2.
+double disk_irradiance_on_plane(const LedLight& led, const glm::dvec3& p) {
+  const int n = 16;
+  double sum = 0;
+  for (int a = 0; a < n; ++a)
+    for (int b = 0; b < n; ++b) {
+      glm::dvec2 d = sample_concentric_disk((a + 0.5) / n, (b + 0.5) / n) * led.radius_m;
+      glm::dvec3 q = led.position + d.x * led.tangent + d.y * led.bitangent;
+      glm::dvec3 to = p - q;
+      double r2 = glm::dot(to, to);
+      glm::dvec3 w = to / std::sqrt(r2);
+      if (w.z < 0) sum += led.profile.eval(glm::dot(w, led.axis)) * (-w.z) / r2;
+    }
+  return sum / (n * n);
+}
+
+// Several spot LEDs (pbrt-v4's cone shape, tabulated) whose cones each cover part of a Lambertian
+// patch, of two spectra, one a disk, one facing away: L = R / pi sum_i I0_i S_i P_i cos / r^2.
+// Where a cone does not reach, that LED is never chosen for next-event estimation
+// (renderer/render/light_choice.h); the answer must not change at the cone edges.
+BenchResult spot_leds(const BenchOptions& o) {
+  json j = base_scene(o, 1);
+  j["camera"] = {{"position", {0, 0, 0.25}}, {"look_at", {0, 0, 0}}, {"up", {0, 1, 0}}, {"fov_deg", 24}, {"resolution", {96, 96}}};
+  j["materials"] = {{"patch", {{"type", "lambertian"}, {"reflectance", tongue_like_reflectance()}}}};
+  j["geometry"] = {{{"type", "quad"}, {"center", {0, 0, 0}}, {"u", {0.4, 0, 0}}, {"v", {0, 0.4, 0}}, {"material", "patch"}}};
+  const json warm = {{"type", "blackbody"}, {"temperature_K", 3500}};
+  auto led = [&](json spd, double i0, json profile, std::array<double, 3> pos, std::array<double, 3> target, double radius) {
+    return json{{"type", "led"}, {"spd", spd}, {"radiant_intensity_W_sr", i0}, {"profile", profile}, {"radius_m", radius},
+                {"position", pos}, {"target", target}};
+  };
+  j["lights"] = {led(1.0, 0.3, spot_profile(15, 20), {0.03, 0.02, 0.06}, {0.0, 0.01, 0.0}, 0.0),
+                 led(warm, 0.5, spot_profile(10, 14), {-0.04, -0.01, 0.07}, {-0.02, -0.02, 0.0}, 0.0),
+                 led(warm, 0.4, spot_profile(20, 25), {0.0, -0.08, 0.05}, {0.02, 0.0, 0.0}, 0.006),  // outside the view
+                 led(1.0, 1.0, {{"half_angle_deg", 30}}, {0.0, 0.0, 0.04}, {0.0, 0.0, 0.1}, 0.0)};  // faces away
+  Rendered r = render_json(j, "spot_leds");
+  const Scene& sc = r.scene;
+  std::vector<std::vector<double>> per_light;  // R S_i I0_i / pi in bands
+  for (const LedLight& l : sc.lights) {
+    std::vector<double> v(sc.grid().size());
+    for (size_t i = 0; i < v.size(); ++i) v[i] = sc.materials[0].reflectance[i] * l.spectral_intensity[i] / kPi;
+    per_light.push_back(to_bands(sc, v));
+  }
+  auto f = [&](const glm::dvec3& p, std::vector<double>& out) {
+    std::fill(out.begin(), out.end(), 0.0);
+    for (size_t i = 0; i < sc.lights.size(); ++i) {
+      const LedLight& l = sc.lights[i];
+      double e = 0;
+      if (l.is_point()) {
+        glm::dvec3 to = p - l.position;
+        double r2 = glm::dot(to, to);
+        glm::dvec3 d = to / std::sqrt(r2);
+        e = d.z < 0 ? l.profile.eval(glm::dot(d, l.axis)) * (-d.z) / r2 : 0.0;
+      } else {
+        e = disk_irradiance_on_plane(l, p);
+      }
+      for (size_t b = 0; b < out.size(); ++b) out[b] += per_light[i][b] * e;
+    }
+    return true;
+  };
+  // Compared where the LEDs give at least 1 % of the brightest pixel: the relative error of a
+  // pixel at the far end of a cone edge says little (its reference is nearly 0).
+  Reference ref = plane_reference(sc, f, nullptr);
+  const int B = sc.integrator.bands.size();
+  std::vector<double> sums(ref.valid.size(), 0.0);
+  for (size_t px = 0; px < ref.valid.size(); ++px)
+    for (int b = 0; b < B; ++b) sums[px] += ref.L[px * B + b];
+  const double brightest = *std::max_element(sums.begin(), sums.end());
+  for (size_t px = 0; px < ref.valid.size(); ++px)
+    if (!(sums[px] >= 0.01 * brightest)) ref.valid[px] = 0;
+  const auto& c = sc.camera;
+  auto b = compare("spot_leds", sc, r.result.image, ref, {{"whole", {0, 0, c.width, c.height}}});
   return finish(b, r, o);
 }
 
@@ -168,6 +256,52 @@ BenchResult closed_sphere(const BenchOptions& o) {
   return finish(b, r, o);
 }
 
+// A white furnace with a spot: inside a closed Lambertian sphere (radius 1, reflectance R) a point
+// LED at the centre shines a pbrt-style spot (30/40 degrees) at part of the wall. Every bounce after
+// the first spreads its light evenly over a sphere's wall, so the radiance at a wall point x is
+// L = R / pi [I0 S P(theta_x) / r^2 + R Phi / (A (1 - R))], Phi = I0 S int P dOmega, A = 4 pi r^2.
+// The view crosses the cone's edge: wall points outside it get no light sample at all (the LED's
+// weight there is 0, renderer/render/light_choice.h), only the many-bounce light from inside it.
+BenchResult spot_furnace(const BenchOptions& o) {
+  json j = base_scene(o, 100000);
+  j["camera"] = {{"position", {0, 0, 0}}, {"look_at", {1, 0.55, 0.1}}, {"up", {0, 0, 1}}, {"fov_deg", 90}, {"resolution", {48, 48}}};
+  j["materials"] = {{"wall", {{"type", "lambertian"}, {"reflectance", {{"type", "points"}, {"points", {{380, 0.6}, {550, 0.85}, {720, 0.7}}}}}}}};
+  j["geometry"] = {{{"type", "sphere"}, {"center", {0, 0, 0}}, {"radius", 1.0}, {"material", "wall"}}};
+  j["lights"] = {{{"type", "led"}, {"spd", 1.0}, {"radiant_intensity_W_sr", 2.0}, {"profile", spot_profile(30, 40)},
+                  {"position", {0, 0, 0}}, {"axis", {1, 0, 0}}}};
+  Rendered r = render_json(j, "spot_furnace");
+  const Scene& sc = r.scene;
+  const LedLight& led = sc.lights[0];
+  const double omega = led.profile.solid_angle_integral(), area = 4 * kPi;
+  std::vector<double> direct(sc.grid().size()), diffuse(sc.grid().size());
+  for (size_t i = 0; i < direct.size(); ++i) {
+    const double R = sc.materials[0].reflectance[i], I = led.spectral_intensity[i];
+    direct[i] = R / kPi * I;
+    diffuse[i] = R / kPi * R * I * omega / (area * (1 - R));
+  }
+  const auto db = to_bands(sc, direct), fb = to_bands(sc, diffuse);
+  const auto& c = sc.camera;
+  const int B = sc.integrator.bands.size();
+  Reference ref;
+  ref.valid.assign(size_t(c.width) * c.height, 1);
+  ref.L.assign(size_t(c.width) * c.height * B, 0.0);
+  for (int y = 0; y < c.height; ++y)
+    for (int x = 0; x < c.width; ++x)
+      for (int sy = 0; sy < 4; ++sy)
+        for (int sx = 0; sx < 4; ++sx) {
+          const glm::dvec3 d = pinhole_dir(c, x + (sx + 0.5) / 4, y + (sy + 0.5) / 4);  // the wall point, r = 1
+          const double prof = led.profile.eval(glm::dot(d, led.axis));
+          for (int b = 0; b < B; ++b) ref.L[(size_t(y) * c.width + x) * B + b] += (db[b] * prof + fb[b]) / 16.0;
+        }
+  const glm::dvec3 in_cone = led.position + led.axis, out_of_cone = glm::normalize(glm::dvec3(1, 1.2, 0.1));
+  const auto pi = pixel_of(c, in_cone), po = pixel_of(c, out_of_cone);
+  auto b = compare("spot_furnace", sc, r.result.image, ref,
+                   {{"whole", {0, 0, c.width, c.height}},
+                    {"inside the cone", {pi[0] - 3, pi[1] - 3, pi[0] + 3, pi[1] + 3}},
+                    {"outside the cone", {po[0] - 3, po[1] - 3, po[0] + 3, po[1] + 3}}});
+  return finish(b, r, o);
+}
+
 }  // namespace
 
 nlohmann::json BenchResult::to_json() const {
@@ -183,6 +317,8 @@ std::vector<BenchCaseInfo> bench_cases() {
       {"lambert_point_led", "Lambertian patch under a tilted point LED with a cos^m profile (30 deg half-angle): L = R I0 S P(theta) cos(theta_i) / (pi r^2), on- and off-axis pixels", 256},
       {"flatpatch", "the flat patch of shared/bench/README.md: R = 0.5 square under an isotropic point light 10 cm above: L = (R / pi) I h / r^3", 256},
       {"disk_led", "Lambertian disk LED (radius 15 mm, 30 mm above a patch): E = pi L a^2 / (h^2 + a^2) on axis and the parallel-plane disk formula off axis; checks MIS", 256},
+      {"spot_leds", "Lambertian patch under four spot LEDs (pbrt-v4's cone shape as tables; two spectra; one a disk; one facing away) whose cones cover parts of it: L = R / pi sum_i I0_i S_i P_i cos / r^2; checks light selection by what each LED can give a point", 256},
+      {"spot_furnace", "white furnace with a spot: a point spot LED (30/40 deg) at the centre of a closed Lambertian sphere, the view across its cone's edge: L = R / pi [I0 S P(theta) + R Phi / (4 pi (1 - R))] (light selection where the LED reaches no point, many bounces, Russian roulette)", 256},
       {"closed_sphere", "camera inside a closed emitting Lambertian sphere: L = Le / (1 - R) per wavelength (multiple bounces, Russian roulette)", 256},
       {"fluorescent_patch", "fluorescent patch (R + NADH + FAD + collagen) under a tilted broadband point LED: L(em) = [R E(em) + sum_ex Phi(em, ex) E(ex) dlambda] / pi in photon units", 256},
       {"fluorescent_patch_385", "the fluorescent patch under a narrow 385 nm LED whose light lies far below the emission bands", 256},
@@ -200,6 +336,8 @@ BenchResult run_bench_case(const std::string& name, const BenchOptions& o) {
   if (name == "flatpatch") return flatpatch(o);
   if (name == "disk_led") return disk_led(o);
   if (name == "closed_sphere") return closed_sphere(o);
+  if (name == "spot_leds") return spot_leds(o);
+  if (name == "spot_furnace") return spot_furnace(o);
   if (name == "fluorescent_patch") return fluorescent_patch(o, false);
   if (name == "fluorescent_patch_385") return fluorescent_patch(o, true);
   if (name == "fluorescent_sphere") return fluorescent_sphere(o);

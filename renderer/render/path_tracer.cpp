@@ -4,11 +4,29 @@
 #include "renderer/render/layered_bsdf.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
+#if defined(__x86_64__) || defined(__i386__)
+#include <x86intrin.h>
+#endif
 
 #include <glm/geometric.hpp>
 
 namespace ofl {
+
+const char* stage_name(int stage) {
+  static const char* names[kStages] = {"camera rays", "intersection", "hit point and material", "light choice",
+                                       "shadow rays",  "surface shading", "layered tissue",       "film"};
+  return stage >= 0 && stage < kStages ? names[stage] : "?";
+}
+
+uint64_t stage_clock() {
+#if defined(__x86_64__) || defined(__i386__)
+  return __rdtsc();
+#else
+  return uint64_t(std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now().time_since_epoch()).count());
+#endif
+}
 
 void record_ray(RayLog* log, const glm::dvec3& o, const glm::dvec3& d, float tmax, bool shadow) {
   if (log && log->rays.size() < log->limit)
@@ -16,8 +34,16 @@ void record_ray(RayLog* log, const glm::dvec3& o, const glm::dvec3& d, float tma
 }
 
 PathTracer::PathTracer(const Scene& scene, const EmbreeScene& embree, const RenderTables& tables)
-    : scene_(scene), embree_(embree), t_(tables), spatial_(scene, embree, tables) {
+    : scene_(scene),
+      embree_(embree),
+      t_(tables),
+      wavelengths_(tables.wavelength_pdf),
+      light_choice_(scene.lights, tables.light_select,
+                    scene.integrator.light_selection == IntegratorSpec::LightSelection::kPower),
+      spatial_(scene, embree, tables) {
   deterministic_ = scene.integrator.direct_excitation == IntegratorSpec::DirectExcitation::kDeterministic;
+  for (const LedLight& l : scene.lights) hittable_emitters_ = hittable_emitters_ || !l.is_point();
+  for (const MaterialTables& m : tables.materials) hittable_emitters_ = hittable_emitters_ || !m.emission.empty();
   const CameraSpec& c = scene.camera;
   cam_pos_ = c.position;
   cam_fwd_ = glm::normalize(c.look_at - c.position);
@@ -47,7 +73,7 @@ void PathTracer::init_lanes(PathLanes& p, Rng& rng) const {
   for (int k = 0; k < kLanes; ++k) {
     double u = u0 + double(k) / kLanes;
     if (u >= 1) u -= 1;
-    p.film[k] = p.wl[k] = t_.wavelength_pdf.sample(u);
+    p.film[k] = p.wl[k] = wavelengths_.sample(u);
     p.beta[k] = 1;
     p.L[k] = p.Lf[k] = 0;
     p.fl[k] = false;
@@ -55,7 +81,8 @@ void PathTracer::init_lanes(PathLanes& p, Rng& rng) const {
   }
 }
 
-void PathTracer::hit_led(const RayHit& hit, const Ray& ray, double prev_pdf, PathLanes& p) const {
+void PathTracer::hit_led(const RayHit& hit, const Ray& ray, double prev_pdf, const SurfacePoint& prev, bool prev_by_power,
+                         PathLanes& p) const {
   const GeomInfo& gi = embree_.info(hit.geom);
   const LedLight& led = scene_.lights[gi.index];
   double cos_l = -glm::dot(ray.d, led.axis);
@@ -63,7 +90,8 @@ void PathTracer::hit_led(const RayHit& hit, const Ray& ray, double prev_pdf, Pat
   double prof = led.profile.eval(cos_l) / (led.area() * cos_l) * t_.light_scale[gi.index];
   double w = 1.0;
   if (prev_pdf > 0) {
-    double pl = t_.light_select.pdf(gi.index) * double(hit.t) * hit.t / (led.area() * cos_l);
+    const double pick = prev_by_power ? t_.light_select.pdf(gi.index) : light_choice_.pmf(gi.index, prev.p, prev.ns, prev.ng);
+    double pl = pick * double(hit.t) * hit.t / (led.area() * cos_l);
     w = power_heuristic(prev_pdf, pl);
   }
   const float* shape = t_.light_shape[t_.light_group[gi.index]].data();
@@ -73,12 +101,18 @@ void PathTracer::hit_led(const RayHit& hit, const Ray& ray, double prev_pdf, Pat
   }
 }
 
-// Next-event estimation to one LED chosen by power: a point on it, the shadow ray, the geometry.
+// Next-event estimation to one LED chosen by what it can give this point (light_choice.h): a point
+// on it, the shadow ray, the geometry.
 LightSample PathTracer::sample_light(const SurfacePoint& sp, const Frame& frame, Rng& rng, RayCounts& counts,
                                      RayLog* log) const {
   LightSample s;
   if (scene_.lights.empty()) return s;
-  int li = t_.light_select.sample(rng.next_double());
+  const LightPick pick = light_choice_.pick(sp.p, sp.ns, sp.ng, rng.next_double());
+  if (pick.light < 0) {
+    counts.mark(Stage::kLightChoice);
+    return s;
+  }
+  const int li = pick.light;
   const LedLight& led = scene_.lights[li];
   glm::dvec3 lp = led.position;
   if (!led.is_point()) {
@@ -91,13 +125,19 @@ LightSample PathTracer::sample_light(const SurfacePoint& sp, const Frame& frame,
   glm::dvec3 wi_w = to / dist;
   double cos_l = -glm::dot(wi_w, led.axis);
   glm::dvec3 wi = frame.to_local(wi_w);
-  if (!(cos_l > 0 && wi.z > 0 && glm::dot(wi_w, sp.ng) > 0)) return s;
+  if (!(cos_l > 0 && wi.z > 0 && glm::dot(wi_w, sp.ng) > 0)) {
+    counts.mark(Stage::kLightChoice);
+    return s;
+  }
   glm::dvec3 o = EmbreeScene::offset(sp, wi_w);
   float tmax = float(glm::length(lp - o) * (1.0 - 1e-4));
   counts.shadow++;
   record_ray(log, o, wi_w, tmax, true);
-  if (embree_.occluded(o, wi_w, tmax)) return s;
-  double pl = t_.light_select.pdf(li);
+  counts.mark(Stage::kLightChoice);
+  const bool blocked = embree_.occluded(o, wi_w, tmax);
+  counts.mark(Stage::kShadow);
+  if (blocked) return s;
+  const double pl = pick.pmf;
   s.valid = true;
   s.light = li;
   s.group = t_.light_group[li];
@@ -142,6 +182,7 @@ PathTracer::Continuation PathTracer::surface_vertex(const SurfacePoint& sp, cons
     return mt.coated ? p_spec * coat.pdf(wo, wi) + (1 - p_spec) * pd : pd;
   };
 
+  counts.mark(Stage::kShading);
   LightSample ls = sample_light(sp, frame, rng, counts, log);
   if (ls.valid) {
     const glm::dvec3& wi = ls.wi;
@@ -249,6 +290,7 @@ PathTracer::Continuation PathTracer::spatial_vertex(const SurfacePoint& sp, unsi
   c.diffuse = !s.reflected;
   c.moved = !s.reflected;
   c.from = s.from;
+  c.light_by_power = true;  // its next-event estimation chooses LEDs by power (spatial_vertex.cpp)
   return c;
 }
 
@@ -283,19 +325,25 @@ double PathTracer::splat(const PathLanes& p, double* bands, double* fluorescence
 
 double PathTracer::sample_pixel(int x, int y, Rng& rng, double* bands, RayCounts& counts, RayLog* log,
                                 double* fluorescence) const {
+  counts.start();
   PathLanes p;
   init_lanes(p, rng);
   Ray ray = camera_ray(x, y, rng);
   counts.camera++;
+  counts.mark(Stage::kCamera);
   double prev_pdf = 0;        // solid-angle pdf of the direction that produced `ray`, 0 = camera/delta
+  SurfacePoint prev;          // the point `ray` left (when prev_pdf > 0)
+  bool prev_by_power = false; // that point's next-event estimation chose its LED by power alone
   bool diffuse_seen = false;  // the path has left a surface through its diffuse lobe
   const int max_depth = scene_.integrator.max_depth;
   for (int depth = 0;; ++depth) {
     record_ray(log, ray.o, ray.d, 1e30f, false);
     RayHit hit = embree_.intersect(ray.o, ray.d);
+    counts.mark(Stage::kIntersect);
     if (!hit.found()) break;
     if (embree_.info(hit.geom).kind == GeomInfo::Kind::kLed) {
-      hit_led(hit, ray, prev_pdf, p);
+      hit_led(hit, ray, prev_pdf, prev, prev_by_power, p);
+      counts.mark(Stage::kShading);
       break;  // the LED body absorbs
     }
     SurfacePoint sp = embree_.surface(hit, ray.o, ray.d);
@@ -310,17 +358,27 @@ double PathTracer::sample_pixel(int x, int y, Rng& rng, double* bands, RayCounts
 
     Frame frame(sp.ns);
     glm::dvec3 wo = frame.to_local(wo_w);
+    counts.mark(Stage::kSurface);
     Continuation c = !mt.stack.enabled ? surface_vertex(sp, frame, wo, mt, diffuse_seen, p, rng, counts, log)
                      : mt.stack.spatial ? spatial_vertex(sp, hit.geom, frame, wo, mt, p, rng, counts, log)
                                         : layered_vertex(sp, frame, wo, mt, p, rng, counts, log);
+    counts.mark(mt.stack.enabled ? Stage::kLayered : Stage::kShading);
     if (!c.ok) break;
+    if (depth + 1 >= max_depth && !hittable_emitters_) break;  // the next hit could only add emission
     if (c.diffuse) diffuse_seen = scene_.integrator.regularize_glossy > 0;
     prev_pdf = c.pdf;
-    if (!roulette(p, depth, rng)) break;
-    ray = {EmbreeScene::offset(c.moved ? c.from : sp, c.wi_world), c.wi_world};
+    prev = c.moved ? c.from : sp;
+    prev_by_power = c.light_by_power;
+    const bool more = roulette(p, depth, rng);
+    counts.mark(Stage::kShading);
+    if (!more) break;
+    ray = {EmbreeScene::offset(prev, c.wi_world), c.wi_world};
     counts.extension++;
   }
-  return splat(p, bands, fluorescence);
+  counts.mark(Stage::kSurface);  // a path that ends at a hit ends after its hit point and material
+  const double total = splat(p, bands, fluorescence);
+  counts.mark(Stage::kFilm);
+  return total;
 }
 
 }  // namespace ofl

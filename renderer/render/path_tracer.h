@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "renderer/render/embree_scene.h"
+#include "renderer/render/light_choice.h"
 #include "renderer/render/render_tables.h"
 #include "renderer/render/path_lanes.h"
 #include "renderer/render/ray_counts.h"
@@ -43,11 +44,15 @@ class PathTracer {
     bool diffuse = false;  // left through a diffuse lobe (glossy regularisation)
     bool moved = false;    // leaves from `from` (lateral transport moved the path), not the vertex
     SurfacePoint from;
+    bool light_by_power = false;  // the vertex's next-event estimation chose its LED by power alone
   };
 
   Ray camera_ray(int x, int y, Rng& rng) const;
   void init_lanes(PathLanes& p, Rng& rng) const;
-  void hit_led(const RayHit& hit, const Ray& ray, double prev_pdf, PathLanes& p) const;
+  // `prev` is the surface point the ray left, when prev_pdf > 0: the MIS weight uses the probability
+  // its next-event estimation gave this LED (by what the LED can give it, or by power alone).
+  void hit_led(const RayHit& hit, const Ray& ray, double prev_pdf, const SurfacePoint& prev, bool prev_by_power,
+               PathLanes& p) const;
   LightSample sample_light(const SurfacePoint& sp, const Frame& frame, Rng& rng, RayCounts& counts, RayLog* log) const;
   Continuation surface_vertex(const SurfacePoint& sp, const Frame& frame, const glm::dvec3& wo, const MaterialTables& mt,
                               bool diffuse_seen, PathLanes& p, Rng& rng, RayCounts& counts, RayLog* log) const;
@@ -61,8 +66,13 @@ class PathTracer {
   const Scene& scene_;
   const EmbreeScene& embree_;
   const RenderTables& t_;
+  GuidedSampler wavelengths_;  // RenderTables::wavelength_pdf without its binary search
+  LightChoice light_choice_;
   SpatialTransport spatial_;
   bool deterministic_;
+  // Something a continuation ray can hit and see glowing (a disk LED, an emissive material): without
+  // one, a path's last continuation ray, traced only to look for emission, is not traced.
+  bool hittable_emitters_ = false;
   // Camera frame.
   glm::dvec3 cam_pos_, cam_right_, cam_up_, cam_fwd_;
   double tan_half_h_, tan_half_w_;

@@ -83,6 +83,7 @@ RenderResult render(const Scene& scene, const RenderOptions& opt) {
     std::fill(tile_in_pass.begin(), tile_in_pass.end(), 0);
     tbb::parallel_for(tbb::blocked_range<int>(0, tx * ty, 1), [&](const tbb::blocked_range<int>& r) {
       RayCounts local;
+      local.timing = opt.time_stages;
       std::vector<double> acc(B), acc_fl(B);
       for (int tile = r.begin(); tile != r.end(); ++tile) {
         if (interrupt_requested()) continue;

@@ -15,6 +15,7 @@ namespace ofl {
 struct RenderOptions {
   bool progress = true;              // progress bar (only shown on a terminal anyway)
   RayLog* ray_log = nullptr;         // record rays (benchmarks)
+  bool time_stages = false;          // clock ticks per stage in RenderStats::rays.ticks (benchmarks)
   std::vector<double> wavelength_importance;  // optional, per grid index (mixed half and half with uniform)
   bool aovs = true;                  // per-pixel material, UV, depth, irradiance planes
   bool fluorescence_layer = true;    // the fluorescent part of the radiance as its own layer

@@ -39,6 +39,12 @@ DiscreteDistribution::DiscreteDistribution(const std::vector<double>& w) {
   cdf.back() = 1.0;
 }
 
+GuidedSampler::GuidedSampler(const DiscreteDistribution& d, int per_bin) : cdf(d.cdf) {
+  if (cdf.empty()) cdf = {1.0};  // an empty distribution: bin 0, as DiscreteDistribution gives
+  const size_t n = size_t(std::max(1, per_bin)) * cdf.size();
+  for (size_t j = 0; j < n; ++j) guide.push_back(d.empty() ? 0 : d.sample(double(j) / double(n)));
+}
+
 Frame::Frame(const glm::dvec3& n) : z(n) {
   // Duff et al. 2017 branchless orthonormal basis.
   double sign = std::copysign(1.0, n.z);

@@ -35,6 +35,23 @@ struct DiscreteDistribution {
   double pdf(int i) const { return pmf[i]; }
 };
 
+// DiscreteDistribution::sample without the binary search (for the camera wavelengths, drawn
+// kLanes times per camera sample): guide[j] is the bin for u = j / guide.size(), and sample(u)
+// walks from there to the first CDF entry above u, a step or two with several guide entries per
+// bin. Gives exactly the bin DiscreteDistribution::sample(u) gives.
+struct GuidedSampler {
+  std::vector<double> cdf;
+  std::vector<int> guide;
+  explicit GuidedSampler(const DiscreteDistribution& d = DiscreteDistribution(), int per_bin = 4);
+  int sample(double u) const {
+    const int last = int(cdf.size()) - 1;
+    int i = guide[std::min(guide.size() - 1, size_t(std::max(0.0, u) * double(guide.size())))];
+    while (i < last && cdf[i] <= u) ++i;  // the first bin whose CDF exceeds u...
+    while (i > 0 && cdf[i - 1] > u) --i;  // ...whatever rounding did to the guide's index
+    return i;
+  }
+};
+
 // Orthonormal frame with z = n.
 struct Frame {
   glm::dvec3 x, y, z;

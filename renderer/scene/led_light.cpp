@@ -19,14 +19,68 @@ double LedProfile::cos_power_from_half_angle(double half_deg) {
   return std::log(0.5) / std::log(std::cos(half_deg * kPi / 180.0));
 }
 
+// The bin of table_start that holds cos(theta) = c, for c inside the table.
+static size_t start_bin(const LedProfile& p, double c) {
+  const double s_lo = std::sqrt(1.0 - p.table_cos.back()), s_hi = std::sqrt(1.0 - p.table_cos.front());
+  const double x = (std::sqrt(std::max(0.0, 1.0 - c)) - s_lo) / (s_hi - s_lo) * double(p.table_start.size());
+  return std::min(p.table_start.size() - 1, size_t(std::max(0.0, x)));
+}
+
+// The first knot with table_cos > c (what std::upper_bound gives), for front < c < back.
+static size_t knot_above(const LedProfile& p, double c) {
+  const auto& tc = p.table_cos;
+  if (p.table_start.empty()) return std::upper_bound(tc.begin(), tc.end(), c) - tc.begin();
+  size_t i = p.table_start[start_bin(p, c)];
+  while (tc[i] <= c) ++i;                  // the bin starts at or below c's knot pair...
+  while (i > 1 && tc[i - 1] > c) --i;      // ...and rounding at a bin edge cannot move it
+  return i;
+}
+
 double LedProfile::eval(double c) const {
   if (c <= 0) return 0.0;
   if (table_cos.empty()) return std::pow(c, cos_power);
   if (c <= table_cos.front()) return table_value.front();
   if (c >= table_cos.back()) return table_value.back();
-  size_t i = std::upper_bound(table_cos.begin(), table_cos.end(), c) - table_cos.begin();
+  size_t i = knot_above(*this, c);
   double t = (c - table_cos[i - 1]) / (table_cos[i] - table_cos[i - 1]);
   return table_value[i - 1] * (1 - t) + table_value[i] * t;
+}
+
+double LedProfile::max_beyond(double c) const {
+  if (c <= 0) return 0.0;
+  if (table_cos.empty()) return eval(c);  // cos^m does not grow with the angle
+  if (c <= table_cos.front()) return table_value.front();
+  const std::vector<double>& env = table_envelope;
+  if (env.size() != table_cos.size()) {  // not indexed: the largest value anywhere
+    double m = 0;
+    for (double v : table_value) m = std::max(m, v);
+    return m;
+  }
+  if (c >= table_cos.back()) return env.back();
+  return env[knot_above(*this, c)];
+}
+
+void LedProfile::index_table() {
+  table_start.clear();
+  table_envelope.clear();
+  if (table_cos.size() < 2) return;
+  double m = 0;
+  for (double v : table_value) table_envelope.push_back(m = std::max(m, v));
+  // The first knot (from the largest angle) with a positive value: below the knot before it, and
+  // below 0, P is 0 (linear interpolation between two zeros, or the constant below the table).
+  size_t k = 0;
+  while (k < table_value.size() && !(table_value[k] > 0)) ++k;
+  zero_at_or_below = k == 0 ? 0.0 : k == table_value.size() ? 1.0 : std::max(0.0, table_cos[k - 1]);
+  const size_t bins = 2 * table_cos.size();
+  const double s_lo = std::sqrt(1.0 - table_cos.back()), s_hi = std::sqrt(1.0 - table_cos.front());
+  for (size_t b = 0; b < bins; ++b) {
+    // Bin b spans sqrt(1 - c) in [s_lo + b ds, s_lo + (b + 1) ds] (bin 0 at the axis): its
+    // smallest cos is at the top end, and the knot above that is where a search may start.
+    const double s_top = s_lo + (s_hi - s_lo) * double(b + 1) / double(bins);
+    const double c_min = 1.0 - s_top * s_top;
+    size_t i = std::upper_bound(table_cos.begin(), table_cos.end(), c_min) - table_cos.begin();
+    table_start.push_back(unsigned(std::clamp<size_t>(i, 1, table_cos.size() - 1)));
+  }
 }
 
 double LedProfile::solid_angle_integral() const {
@@ -39,6 +93,37 @@ double LedProfile::solid_angle_integral() const {
 }
 
 double LedLight::area() const { return kPi * radius_m * radius_m; }
+
+// cos(max(0, angle - spread)) from the cosine of `angle` and the sine and cosine of `spread`.
+static double cos_less(double cos_a, double sin_spread, double cos_spread) {
+  if (cos_a >= cos_spread) return 1.0;  // angle <= spread
+  const double sin_a = std::sqrt(std::max(0.0, 1.0 - cos_a * cos_a));
+  return cos_a * cos_spread + sin_a * sin_spread;
+}
+
+double LedLight::irradiance_bound(const glm::dvec3& p, const glm::dvec3& ns, const glm::dvec3& ng) const {
+  const glm::dvec3 to = position - p;
+  const double d2 = glm::dot(to, to);
+  if (!(d2 > 0)) return 0.0;
+  const double d = std::sqrt(d2);
+  const glm::dvec3 w = to / d;
+  const double cos_l = -glm::dot(w, axis), cos_s = glm::dot(w, ns), cos_g = glm::dot(w, ng);
+  if (is_point()) {
+    if (!(cos_l > profile.zero_at_or_below && cos_s > 0 && cos_g > 0)) return 0.0;
+    return intensity_W_sr * profile.eval(cos_l) * cos_s / d2;
+  }
+  // Every point of the disk lies in its plane: p must be in front of it.
+  if (!(glm::dot(p - position, axis) > 0)) return 0.0;
+  // Seen from p the disk lies within `spread` of its centre's direction (at the LED too: the angle
+  // between the axis and the direction from a disk point to p differs from cos_l's by at most it).
+  // Closer than the radius, the disk can be in any direction.
+  if (d <= radius_m) return intensity_W_sr * profile.max_beyond(1.0) / d2;
+  const double sin_spread = radius_m / d, cos_spread = std::sqrt(1.0 - sin_spread * sin_spread);
+  const double s = cos_less(cos_s, sin_spread, cos_spread), g = cos_less(cos_g, sin_spread, cos_spread);
+  if (!(s > 0 && g > 0)) return 0.0;
+  const double prof = profile.max_beyond(cos_less(cos_l, sin_spread, cos_spread));
+  return intensity_W_sr * prof * s / d2;
+}
 
 // Relative intensity against polar angle from an IES LM-63 photometric file (types C and B with
 // the vertical angle measured from the LED axis): candela averaged over the horizontal angles.
@@ -142,6 +227,7 @@ static LedProfile parse_profile(const JsonNode& n) {
     p.table_cos.push_back(std::cos(it->first * kPi / 180.0));
     p.table_value.push_back(it->second / p0);
   }
+  p.index_table();
   return p;
 }
 

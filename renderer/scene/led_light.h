@@ -19,8 +19,22 @@ struct LedProfile {
   double cos_power = 1.0;           // used when the table is empty
   std::vector<double> table_cos;    // increasing cos(theta) (from the angle table), with
   std::vector<double> table_value;  // relative intensity, 1 on axis
+  // Filled by index_table() (parse_led does it): where to start looking for cos(theta) in the table,
+  // by bins uniform in sqrt(1 - cos) (nearly uniform in angle), so eval finds its knot pair in a
+  // step or two instead of a binary search; and per knot the largest value at that knot or any
+  // larger angle (for max_beyond). eval gives the same value with or without them.
+  std::vector<unsigned> table_start;
+  std::vector<double> table_envelope;
+  // P is 0 for every cos(theta) <= zero_at_or_below (0 = only behind the emitter). index_table()
+  // sets it from the table; a cos^m profile keeps 0.
+  double zero_at_or_below = 0;
   double eval(double cos_theta) const;  // P(theta), 0 behind the emitter
+  // An upper bound of P(theta') over every theta' >= theta (cos theta' <= cos_theta), exact for
+  // cos^m; 0 only where P is 0 at theta and at every larger angle. For light selection over the
+  // directions a disk emitter covers (renderer/render/light_choice.h).
+  double max_beyond(double cos_theta) const;
   double solid_angle_integral() const;  // integral of P over the sphere (sr)
+  void index_table();                   // fills table_start and table_envelope
   static double cos_power_from_half_angle(double half_angle_deg);  // cos^m(half) = 1/2
 };
 
@@ -39,6 +53,12 @@ struct LedLight {
 
   double area() const;
   bool is_point() const { return radius_m <= 0; }
+  // How much this LED can light a surface point p with shading normal ns and geometric normal ng
+  // (both unit, on the side the light must arrive from): for a point LED the unoccluded irradiance
+  // I0 P(theta) cos(ns) / r^2 itself, 0 when cos(ns) or cos(ng) is not positive; for a disk an
+  // estimate from its centre with P and the cosines bounded over every direction the disk covers,
+  // so that it is 0 only where no point of the disk can light p. Light selection weights.
+  double irradiance_bound(const glm::dvec3& p, const glm::dvec3& ns, const glm::dvec3& ng) const;
 };
 
 // Parses one entry of "lights" (see docs/scene-format.md) on the given grid: an "led" gives one

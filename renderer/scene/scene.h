@@ -37,6 +37,11 @@ struct IntegratorSpec {
   BandSet bands;
   enum class DirectExcitation { kDeterministic, kSampled };
   DirectExcitation direct_excitation = DirectExcitation::kDeterministic;
+  // Which LED next-event estimation goes to at a surface point: weighed by what each LED can give
+  // that point (renderer/render/light_choice.h), or by power alone (the older estimator, for
+  // comparison). Both are unbiased.
+  enum class LightSelection { kReach, kPower };
+  LightSelection light_selection = LightSelection::kReach;
   bool fluorescence = true;   // false: fluorophores are ignored (for cost/contrast comparisons)
   double noise_target = 0;    // > 0: stop adding passes once the relative noise falls below this
   // > 0: after a path's first diffuse bounce, wet coatings are treated as at least this rough

@@ -20,7 +20,7 @@ constexpr int kFormatVersion = 1;
 
 IntegratorSpec parse_integrator(const JsonNode& n) {
   n.check_keys({"spp", "max_depth", "rr_start_depth", "seed", "wavelengths", "output_bands", "direct_excitation",
-                "fluorescence", "noise_target", "regularize_glossy", "importance_camera"});
+                "light_selection", "fluorescence", "noise_target", "regularize_glossy", "importance_camera"});
   IntegratorSpec s;
   s.spp = n.integer_or("spp", s.spp, 1, 1 << 24);
   s.max_depth = n.integer_or("max_depth", s.max_depth, 0, 100000);
@@ -49,6 +49,9 @@ IntegratorSpec parse_integrator(const JsonNode& n) {
     n.fail("output bands " + std::to_string(lo) + "-" + std::to_string(hi) + " nm reach outside the wavelength grid");
   std::string de = n.choice_or("direct_excitation", "deterministic", {"deterministic", "sampled"});
   s.direct_excitation = de == "sampled" ? IntegratorSpec::DirectExcitation::kSampled : IntegratorSpec::DirectExcitation::kDeterministic;
+  s.light_selection = n.choice_or("light_selection", "reach", {"reach", "power"}) == "power"
+                          ? IntegratorSpec::LightSelection::kPower
+                          : IntegratorSpec::LightSelection::kReach;
   s.fluorescence = n.boolean_or("fluorescence", true);
   s.noise_target = n.number_or("noise_target", 0.0, 0.0, 1.0);
   s.regularize_glossy = n.number_or("regularize_glossy", 0.0, 0.0, 1.0);

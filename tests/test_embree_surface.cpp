@@ -1,0 +1,48 @@
+// EmbreeScene::surface: a hit on a flat mesh without normals or texture coordinates takes its
+// geometric normal from Embree instead of the triangle's vertices; it must be the same unit normal,
+// with the same orientation (cross(p1 - p0, p2 - p0), which "front side as authored" relies on),
+// and the hit point (o + t d) must lie on the triangle's plane well within the ray offset
+// (EmbreeScene::offset: 1e-5 of the point's largest coordinate).
+#include <gtest/gtest.h>
+
+#include <glm/geometric.hpp>
+
+#include "renderer/render/embree_scene.h"
+#include "renderer/render/rng.h"
+
+using namespace ofl;
+
+TEST(EmbreeSurface, FlatMeshNormalFromEmbreeEqualsTheVertexNormal) {
+  Scene sc;
+  sc.materials.emplace_back();
+  Rng r(5, 9);
+  for (int t = 0; t < 20; ++t) {  // 20 random triangles, each its own mesh, far apart
+    TriangleMesh m;
+    m.material_id = 0;
+    const glm::vec3 c(0.3f * t, 0.0f, 0.0f);
+    for (int k = 0; k < 3; ++k)
+      m.positions.push_back(c + glm::vec3(0.1f * float(r.next_double() - 0.5), 0.1f * float(r.next_double() - 0.5), 0.1f * float(r.next_double() - 0.5)));
+    m.indices = {0, 1, 2};
+    sc.meshes.push_back(m);
+  }
+  EmbreeScene es(sc);
+  int hits = 0;
+  for (int t = 0; t < 20; ++t) {
+    const auto& P = sc.meshes[t].positions;
+    const glm::dvec3 p0(P[0]), p1(P[1]), p2(P[2]);
+    const glm::dvec3 n = glm::normalize(glm::cross(p1 - p0, p2 - p0));
+    const glm::dvec3 target = (p0 + p1 + p2) / 3.0;
+    for (double side : {1.0, -1.0}) {  // from the front and from the back
+      const glm::dvec3 o = target + side * 0.05 * n + glm::dvec3(0.001, -0.002, 0.0015);
+      const glm::dvec3 d = glm::normalize(target - o);
+      RayHit h = es.intersect(o, d);
+      ASSERT_TRUE(h.found());
+      SurfacePoint s = es.surface(h, o, d);
+      EXPECT_NEAR(glm::dot(s.ng, n), 1.0, 1e-6);
+      EXPECT_EQ(s.ns, s.ng);
+      EXPECT_NEAR(glm::dot(s.p - p0, n), 0.0, 1e-6 * s.scale);
+      ++hits;
+    }
+  }
+  EXPECT_EQ(hits, 40);
+}
