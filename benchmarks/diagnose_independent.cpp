@@ -1,6 +1,6 @@
 // Recall, false alarms and parameter coverage of `diagnose` on data made by a generator
 // independent of its forward model (tests/independent_spectra.h), per hidden cause, with 95 %
-// bounds (Wilson score interval). Issue 12, item 4.
+// bounds (Wilson score interval).
 //   usage: diagnose_independent [seeds per effect] [effect ...]
 //   effect: a name below, "null" (the null rows), "name/shape" (unknown band shapes), "/edge",
 //   "/response", "/edge_width", "/blur" (null data, instrument slightly wrong), "name@size" (fixed

@@ -1,5 +1,5 @@
 // Diagnose on data it did not make (tests/independent_spectra.h: own grids, own EEM interpolation
-// and photon bookkeeping, point-sampled records). Issue 12, item 4: an emission shift and an
+// and photon bookkeeping, point-sampled records). What it must show (docs/diagnose.md): an emission shift and an
 // instrument-axis shift are separate causes; an emission shift is named with its value within
 // 0.3 nm; an offset and an excitation leak are named alone with their sizes within 10 %;
 // a band in no library spectrum is found with its peak within 5 nm; a cause carried by one subject

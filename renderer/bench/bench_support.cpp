@@ -182,4 +182,16 @@ std::array<int, 2> pixel_of(const CameraSpec& c, const glm::dvec3& p) {
   return {int((sx + 1) * 0.5 * c.width), int((1 - sy) * 0.5 * c.height)};
 }
 
+Scene stack_bench_scene(const nlohmann::json& material, const nlohmann::json& spd, double min_nm, double max_nm) {
+  using nlohmann::json;
+  json j = {{"format", "oralfluor-scene"}, {"version", 1},
+            {"integrator", {{"wavelengths", {{"min_nm", min_nm}, {"max_nm", max_nm}, {"step_nm", 5}}},
+                            {"output_bands", {{"min_nm", min_nm + 10}, {"max_nm", max_nm - 10}, {"step_nm", 10}}}}},
+            {"camera", {{"position", {0, 0, 1}}, {"look_at", {0, 0, 0}}, {"up", {0, 1, 0}}, {"fov_deg", 10}, {"resolution", {4, 4}}}},
+            {"materials", {{"m", material}}},
+            {"geometry", {{{"type", "quad"}, {"center", {0, 0, 0}}, {"u", {1, 0, 0}}, {"v", {0, 1, 0}}, {"material", "m"}}}},
+            {"lights", {{{"spd", spd}, {"radiant_intensity_W_sr", 1.0}, {"position", {0, 0, 10}}, {"target", {0, 0, 0}}}}}};
+  return load_scene(JsonFile::from(j, "stack_bench.json"));
+}
+
 }  // namespace ofl::bench

@@ -16,6 +16,9 @@
 namespace ofl::bench {
 
 // Band means of a spectrum tabulated on the scene's grid (box overlap of bins with bands).
+// A flat 2 m quad of one material (named "m"), a 10 m-high LED of spectrum `spd` above it, a 4x4
+// camera: what the layered and spatial bench cases load a stack's tables from.
+Scene stack_bench_scene(const nlohmann::json& material, const nlohmann::json& spd, double min_nm, double max_nm);
 std::vector<double> to_bands(const Scene& sc, const std::vector<double>& grid_values);
 
 // Exact radiance at a point of the plane z = 0 (per band), or false where there is none.

@@ -68,22 +68,12 @@ struct StackBench {
   int n() const { return tables_->n; }
 };
 
-Scene stack_scene(const json& material, const json& spd, double min_nm, double max_nm) {
-  json j = {{"format", "oralfluor-scene"}, {"version", 1},
-            {"integrator", {{"wavelengths", {{"min_nm", min_nm}, {"max_nm", max_nm}, {"step_nm", 5}}},
-                            {"output_bands", {{"min_nm", min_nm + 10}, {"max_nm", max_nm - 10}, {"step_nm", 10}}}}},
-            {"camera", {{"position", {0, 0, 1}}, {"look_at", {0, 0, 0}}, {"up", {0, 1, 0}}, {"fov_deg", 10}, {"resolution", {4, 4}}}},
-            {"materials", {{"m", material}}},
-            {"geometry", {{{"type", "quad"}, {"center", {0, 0, 0}}, {"u", {1, 0, 0}}, {"v", {0, 1, 0}}, {"material", "m"}}}},
-            {"lights", {{{"spd", spd}, {"radiant_intensity_W_sr", 1.0}, {"position", {0, 0, 10}}, {"target", {0, 0, 0}}}}}};
-  return load_scene(JsonFile::from(j, "layered_bench.json"));
-}
 
 std::unique_ptr<StackBench> make_bench(const json& material, const json& spd, double min_nm = 350, double max_nm = 750) {
   auto b = std::make_unique<StackBench>();
   json m = material;  // these cases check the walk itself
   if (!m.contains("transport")) m["transport"] = "walk";
-  b->scene = stack_scene(m, spd, min_nm, max_nm);
+  b->scene = bench::stack_bench_scene(m, spd, min_nm, max_nm);
   b->tables_ = std::make_unique<RenderTables>(b->scene);
   return b;
 }

@@ -54,16 +54,6 @@ json pencil_slab(long long profile_photons) {
              {"fluorophores", {{{"name", "collagen"}, {"mua_per_mm", 0.2}, {"quantum_yield", 1.0}}}}}}}};
 }
 
-Scene one_material_scene(const json& material, const json& spd, double min_nm, double max_nm) {
-  json j = {{"format", "oralfluor-scene"}, {"version", 1},
-            {"integrator", {{"wavelengths", {{"min_nm", min_nm}, {"max_nm", max_nm}, {"step_nm", 5}}},
-                            {"output_bands", {{"min_nm", min_nm + 10}, {"max_nm", max_nm - 10}, {"step_nm", 10}}}}},
-            {"camera", {{"position", {0, 0, 1}}, {"look_at", {0, 0, 0}}, {"up", {0, 1, 0}}, {"fov_deg", 10}, {"resolution", {4, 4}}}},
-            {"materials", {{"m", material}}},
-            {"geometry", {{{"type", "quad"}, {"center", {0, 0, 0}}, {"u", {1, 0, 0}}, {"v", {0, 1, 0}}, {"material", "m"}}}},
-            {"lights", {{{"spd", spd}, {"radiant_intensity_W_sr", 1.0}, {"position", {0, 0, 10}}, {"target", {0, 0, 0}}}}}};
-  return load_scene(JsonFile::from(j, "spatial_bench.json"));
-}
 
 struct RingStats {
   std::vector<double> mean, se;
@@ -167,7 +157,7 @@ CheckCaseResult spatial_fluorescence_pencil(long long samples, uint64_t seed) {
   int n = 0;
   std::vector<double> source;
   for (int f = 0; f < kFillSeeds; ++f) {
-    Scene sc = one_material_scene(pencil_slab(std::max<long long>(100, samples / 40)), spd, 380, 700);
+    Scene sc = bench::stack_bench_scene(pencil_slab(std::max<long long>(100, samples / 40)), spd, 380, 700);
     RenderTables t(sc);
     // Another seed than the renderer's: refill the profiles from this scene's tables.
     StackProfileOptions o;
@@ -366,8 +356,8 @@ Contrast rendered_contrast(const LesionCase& c, const std::string& transport, in
 Contrast forward_contrast(const LesionCase& c, long long photons, uint64_t seed, nlohmann::json* all_directions) {
   const auto edges = lesion_rings(c.a_mm);
   const json spd = lesion_light(c)["spd"];
-  Scene sc = one_material_scene(smooth_preset(c.outside, "table", 0), spd, 380, 700);
-  Scene sl = one_material_scene(smooth_preset(c.inside, "table", 0), spd, 380, 700);
+  Scene sc = bench::stack_bench_scene(smooth_preset(c.outside, "table", 0), spd, 380, 700);
+  Scene sl = bench::stack_bench_scene(smooth_preset(c.inside, "table", 0), spd, 380, 700);
   RenderTables th(sc), tl(sl);
   ForwardSetup s;
   s.outside.st = &th.materials[0].stack;

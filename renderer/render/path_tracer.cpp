@@ -2,6 +2,7 @@
 
 #include "renderer/render/albedo_matrix.h"
 #include "renderer/render/layered_bsdf.h"
+#include "renderer/render/led_connection.h"
 
 #include <algorithm>
 #include <chrono>
@@ -112,39 +113,7 @@ LightSample PathTracer::sample_light(const SurfacePoint& sp, const Frame& frame,
     counts.mark(Stage::kLightChoice);
     return s;
   }
-  const int li = pick.light;
-  const LedLight& led = scene_.lights[li];
-  glm::dvec3 lp = led.position;
-  if (!led.is_point()) {
-    glm::dvec2 d = sample_concentric_disk(rng.next_double(), rng.next_double()) * led.radius_m;
-    lp += d.x * led.tangent + d.y * led.bitangent;
-  }
-  glm::dvec3 to = lp - sp.p;
-  double dist2 = glm::dot(to, to);
-  double dist = std::sqrt(dist2);
-  glm::dvec3 wi_w = to / dist;
-  double cos_l = -glm::dot(wi_w, led.axis);
-  glm::dvec3 wi = frame.to_local(wi_w);
-  if (!(cos_l > 0 && wi.z > 0 && glm::dot(wi_w, sp.ng) > 0)) {
-    counts.mark(Stage::kLightChoice);
-    return s;
-  }
-  glm::dvec3 o = EmbreeScene::offset(sp, wi_w);
-  float tmax = float(glm::length(lp - o) * (1.0 - 1e-4));
-  counts.shadow++;
-  record_ray(log, o, wi_w, tmax, true);
-  counts.mark(Stage::kLightChoice);
-  const bool blocked = embree_.occluded(o, wi_w, tmax);
-  counts.mark(Stage::kShadow);
-  if (blocked) return s;
-  const double pl = pick.pmf;
-  s.valid = true;
-  s.light = li;
-  s.group = t_.light_group[li];
-  s.wi = wi;
-  s.g = led.profile.eval(cos_l) * wi.z / dist2 / pl * t_.light_scale[li];
-  s.pdf_solid = led.is_point() ? 0.0 : pl * dist2 / (led.area() * cos_l);
-  return s;
+  return connect_to_led(scene_, embree_, t_, pick.light, pick.pmf, sp, frame, rng, counts, log);
 }
 
 PathTracer::Continuation PathTracer::surface_vertex(const SurfacePoint& sp, const Frame& frame, const glm::dvec3& wo,
@@ -163,7 +132,7 @@ PathTracer::Continuation PathTracer::surface_vertex(const SurfacePoint& sp, cons
 
   const GgxCoating& coat = diffuse_seen ? mt.coating_regularized : mt.coating;
   // The base is reached after n internal reflections inside the coating (shared by the lanes);
-  // each lane walks n albedo-matrix steps first (DESIGN: coated.h).
+  // each lane walks n albedo-matrix steps first (materials/coated.h).
   int wl_base[kLanes];
   float w_base[kLanes];
   bool fl_base[kLanes];

@@ -1,6 +1,8 @@
 // The spatial transport's vertex (see spatial_vertex.h).
 #include "renderer/render/spatial/spatial_vertex.h"
 
+#include "renderer/render/led_connection.h"
+
 #include <algorithm>
 #include <cmath>
 
@@ -103,32 +105,8 @@ bool SpatialTransport::spatial_material(int m) const {
 
 LightSample SpatialTransport::connect(int li, const SurfacePoint& x, const Frame& f, Rng& rng, RayCounts& counts,
                                       RayLog* log) const {
-  LightSample s;
-  const LedLight& led = scene_.lights[li];
-  glm::dvec3 lp = led.position;
-  if (!led.is_point()) {
-    glm::dvec2 d = sample_concentric_disk(rng.next_double(), rng.next_double()) * led.radius_m;
-    lp += d.x * led.tangent + d.y * led.bitangent;
-  }
-  const glm::dvec3 to = lp - x.p;
-  const double dist2 = glm::dot(to, to), dist = std::sqrt(dist2);
-  const glm::dvec3 wi_w = to / dist;
-  const double cos_l = -glm::dot(wi_w, led.axis);
-  const glm::dvec3 wi = f.to_local(wi_w);
-  if (!(cos_l > 0 && wi.z > 0 && glm::dot(wi_w, x.ng) > 0)) return s;
-  const glm::dvec3 o = EmbreeScene::offset(x, wi_w);
-  const float tmax = float(glm::length(lp - o) * (1.0 - 1e-4));
-  counts.shadow++;
-  record_ray(log, o, wi_w, tmax, true);
-  if (embree_.occluded(o, wi_w, tmax)) return s;
-  const double pl = t_.light_select.pdf(li);
-  s.valid = true;
-  s.light = li;
-  s.group = t_.light_group[li];
-  s.wi = wi;
-  s.g = led.profile.eval(cos_l) * wi.z / dist2 / pl * t_.light_scale[li];
-  s.pdf_solid = led.is_point() ? 0.0 : pl * dist2 / (led.area() * cos_l);
-  return s;
+  // The subsurface light is chosen by power (scatter below), so its probability is the power one.
+  return connect_to_led(scene_, embree_, t_, li, t_.light_select.pdf(li), x, f, rng, counts, log);
 }
 
 // Next-event estimation of the top interface's specular lobe at x_o (rough tops; a smooth top's
