@@ -30,7 +30,9 @@ namespace {
 
 using nlohmann::json;
 
-constexpr int kMcBatches = 8, kFillSeeds = 4;
+// The forward Monte Carlo's batches: their spread is its standard error (32 give it within about
+// 13 %); the profiles' fills: their spread is the tables' noise.
+constexpr int kMcBatches = 32, kFillSeeds = 4;
 
 // Ring edges (mm) of the pencil-beam comparison.
 std::vector<double> pencil_rings() {
@@ -181,8 +183,12 @@ CheckCaseResult spatial_fluorescence_pencil(long long samples, uint64_t seed) {
       std::vector<double> mc_total;
       double shape_sum = 0;
       for (double v : source) shape_sum += v;
-      for (int b = 0; b < kMcBatches; ++b) {
-        ForwardTally ft = run_forward_mc(s, std::max<long long>(1000, samples / kMcBatches), seed * 1000 + b);
+      // Batches of at least 50 000 photons: the outer rings hold about 1 % of the fluorescence, and
+      // with fewer photons per batch their tallies are too sparse for a batch spread to be a
+      // standard error.
+      const int batches = int(std::clamp<long long>(samples / 50000, 8, kMcBatches));
+      for (int b = 0; b < batches; ++b) {
+        ForwardTally ft = run_forward_mc(s, std::max<long long>(1000, samples / batches), seed * 1000 + b);
         double tot = 0;
         mc.push_back(ring_shares(ft.fluor, n, R, &tot));
         mc_total.push_back(tot * shape_sum / double(ft.photons));
@@ -215,6 +221,10 @@ struct LesionCase {
   double a_mm = 1;
   bool fluorescence = false;  // false: broadband light, elastic profile; true: 405 nm LED, fluorescence
   double theta_deg = 10;      // the light's polar angle
+  // Walks per node of the rendered materials' tables. The table's node nearest the normal, where
+  // the camera looks, is its noisiest (docs/layered-tissue.md, Limitations): at 40 000 its noise is
+  // a few per cent, as large as the Monte Carlo's error bars at full counts, so full runs use more.
+  long long table_photons = 40000;
 };
 
 // The bands each profile is reported in: (lo, hi) nm.
@@ -237,8 +247,9 @@ std::vector<double> lesion_rings(double a) {
 // filled with 40000 walks per node: at the default 2000 the table's elastic values near normal viewing
 // carry about 10 % of fill noise (few walks leave within 17 degrees of the normal), which is the
 // position-free table's, not the lateral transport's, and would hide what is checked here.
-json smooth_preset(const std::string& preset, const std::string& transport, long long profile_photons) {
-  json m = {{"type", "layered_tissue"}, {"preset", preset}, {"transport", transport}, {"table_photons", 40000},
+json smooth_preset(const std::string& preset, const std::string& transport, long long profile_photons,
+                   long long table_photons = 40000) {
+  json m = {{"type", "layered_tissue"}, {"preset", preset}, {"transport", transport}, {"table_photons", table_photons},
             {"coating", {{"ior", 1.33}, {"roughness", 0.0}, {"thickness_mm", 0.01}}}};
   if (transport == "spatial" && profile_photons > 0) m["profile_photons"] = profile_photons;
   return m;
@@ -285,8 +296,8 @@ Contrast rendered_contrast(const LesionCase& c, const std::string& transport, in
   const int W = 160;
   const double H = 0.5;  // camera height, m
   auto scene_json = [&](bool lesion) {
-    json mats = {{"healthy", smooth_preset(c.outside, transport, profile_photons)},
-                 {"lesion", smooth_preset(c.inside, transport, profile_photons)}};
+    json mats = {{"healthy", smooth_preset(c.outside, transport, profile_photons, c.table_photons)},
+                 {"lesion", smooth_preset(c.inside, transport, profile_photons, c.table_photons)}};
     mats["tissue"] = lesion ? json{{"type", "regions"}, {"base", "healthy"},
                                    {"regions", {{{"mask", write_disc_mask(c.a_mm, half).string()}, {"material", "lesion"}}}}}
                             : json{{"type", "regions"}, {"base", "healthy"}, {"regions", {{{"mask", write_disc_mask(0.0, half).string()}, {"material", "lesion"}}}}};
@@ -429,6 +440,7 @@ CheckCaseResult spatial_lesion_disc(const std::string& inside, double a_mm, bool
   c.inside = inside;
   c.a_mm = a_mm;
   c.fluorescence = fluorescence;
+  c.table_photons = std::clamp<long long>(samples / 80, 40000, 400000);
   CheckCaseResult r;
   char nm[96];
   std::snprintf(nm, sizeof nm, "spatial_lesion_%s_%gmm%s", inside.c_str(), a_mm, fluorescence ? "_fluorescence" : "");

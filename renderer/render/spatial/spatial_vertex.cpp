@@ -69,6 +69,11 @@ struct SpatialTransport::Vertex {
   int light = -1, group = 0;
   double mu_i_proxy = 1;  // the light's cosine at x_o, standing in for its cosine at the entry point
   SpatialStack::Cosines co, ci_proxy;  // the profiles' interpolation weights at mu_o and mu_i_proxy
+  // The anchor (docs/layered-tissue.md, "Lateral transport", estimator): the LED connection at x_o,
+  // to the same point on the LED as every entry point's (the same seed), and its MIS weight.
+  uint64_t led_seed = 0;
+  LightSample at_o;
+  double w_o = 1;
 };
 
 struct SpatialTransport::Entry {
@@ -103,19 +108,46 @@ bool SpatialTransport::spatial_material(int m) const {
   return m >= 0 && t_.materials[m].stack.enabled && t_.materials[m].stack.spatial && t_.materials[m].stack.response;
 }
 
-LightSample SpatialTransport::connect(int li, const SurfacePoint& x, const Frame& f, Rng& rng, RayCounts& counts,
+LightSample SpatialTransport::connect(const Vertex& v, const SurfacePoint& x, const Frame& f, RayCounts& counts,
                                       RayLog* log) const {
   // The subsurface light is chosen by power (scatter below), so its probability is the power one.
-  return connect_to_led(scene_, embree_, t_, li, t_.light_select.pdf(li), x, f, rng, counts, log);
+  // The point on the LED comes from the vertex's own seed: the same at x_o and at every entry point,
+  // so that the anchor and the entries' estimates move together (their difference is what is noisy).
+  Rng led(v.led_seed, 0x4C4544ULL);
+  return connect_to_led(scene_, embree_, t_, v.light, t_.light_select.pdf(v.light), x, f, led, counts, log);
+}
+
+// The LED connection at x_o, shared by the top lobe and the anchor, and the anchor's reflected and
+// fluorescent light: the position-free table's next-event estimate at x_o. Each entry point's
+// estimate then adds the difference between the spatial transport and this (entry_light).
+void SpatialTransport::anchor(Vertex& v, const Plan& pl, RayCounts& counts, RayLog* log) const {
+  if (v.light < 0) return;
+  v.at_o = connect(v, v.xo, v.frame, counts, log);
+  const LightSample& ls = v.at_o;
+  if (!ls.valid) return;
+  // The weight the reflected anchor gets against the continuation's hits (any constant keeps the
+  // estimate unbiased; this one follows the entries' own weight).
+  const double cont = (1.0 - v.p_spec) * cosine_hemisphere_pdf(ls.wi.z) * (1.0 - pl.cont_fl);
+  v.w_o = ls.pdf_solid > 0 ? power_heuristic(ls.pdf_solid, cont) : 1.0;
+  const auto a = v.R.weights(v.mu_o), b = v.R.weights(ls.wi.z);
+  const float* shape = t_.light_shape[ls.group].data();
+  const bool fluorescent = v.S.fluorescent && !v.R.direct.empty();
+  for (int k = 0; k < kLanes; ++k) {
+    if (v.p.beta[k] == 0) continue;
+    const int wl = v.p.wl[k];
+    v.p.add(k, v.p.beta[k] * v.R.elastic_at(a, b, wl) * shape[wl] * ls.g * v.w_o);
+    if (!fluorescent) continue;
+    const double fl = v.p.beta[k] * v.R.direct_at(ls.group, a, b, wl) * ls.g;
+    v.p.L[k] += float(fl);
+    v.p.Lf[k] += float(fl);
+  }
 }
 
 // Next-event estimation of the top interface's specular lobe at x_o (rough tops; a smooth top's
-// mirror is found by the continuation).
-void SpatialTransport::top_light(Vertex& v, Rng& rng, RayCounts& counts, RayLog* log) const {
-  if (v.smooth || scene_.lights.empty()) return;
-  const int li = t_.light_select.sample(rng.next_double());
-  const LightSample ls = connect(li, v.xo, v.frame, rng, counts, log);
-  if (!ls.valid) return;
+// mirror is found by the continuation), through the anchor's connection.
+void SpatialTransport::top_light(Vertex& v) const {
+  const LightSample& ls = v.at_o;
+  if (v.smooth || !ls.valid) return;
   const GgxCoating& lobe = v.mt.stack.top_lobe;
   const double mis = ls.pdf_solid > 0 ? power_heuristic(ls.pdf_solid, v.p_spec * lobe.pdf(v.wo, ls.wi)) : 1.0;
   const double fs = v.mt.stack.top.reflection(v.wo, ls.wi);
@@ -275,39 +307,84 @@ SpatialTransport::Entry SpatialTransport::sample_fluorescent(Vertex& v, Rng& rng
   return e;
 }
 
-// Next-event estimation from the entry point: the chosen strategy's lanes.
-void SpatialTransport::entry_light(Vertex& v, Entry& e, Rng& rng, RayCounts& counts, RayLog* log) const {
-  if (v.light < 0) return;
-  const Frame fi(e.xi.ns);
-  const LightSample ls = connect(v.light, e.xi, fi, rng, counts, log);
-  if (!ls.valid) return;
-  const MaterialTables& m = t_.materials[e.material];
+// The elastic BSSRDF's value per lane (1/(sr mm^2)) for light entering at e.xi with cosine mu_i and
+// leaving x_o toward the viewer: the table's directional factor times the exit profile at |x_i - x_o|.
+// Within one material that is the material's own; across a region boundary it is the geometric mean
+// of the entry material's and x_o's (docs/layered-tissue.md, "Regions and lateral transport"): the
+// rule is reciprocal (swapping entry and exit gives the same value), exact within one material, and
+// tends to x_o's own reflectance deep inside a region larger than the light's spread.
+void SpatialTransport::elastic_values(const Vertex& v, const Entry& e, double mu_i, double* f) const {
+  const MaterialTables& mi = t_.materials[e.material];
+  const bool across = &mi != &v.mt;
+  auto one = [&](const MaterialTables& m, double* out) {
+    const StackResponse& R = *m.stack.response;
+    const SpatialStack& S = *m.stack.spatial;
+    const auto a = R.weights(v.mu_o), b = R.weights(mu_i);
+    for (int k = 0; k < kLanes; ++k)
+      out[k] = v.p.beta[k] == 0 ? 0.0 : R.elastic_at(a, b, v.p.wl[k]) * S.elastic_density(v.co, v.p.wl[k], e.r_mm);
+  };
+  one(mi, f);
+  if (!across) return;
+  double g[kLanes];
+  one(v.mt, g);
+  for (int k = 0; k < kLanes; ++k) f[k] = std::sqrt(f[k] * g[k]);
+}
+
+// The direct fluorescence per lane that a material's stack sends from the LED point of `ls` to the
+// viewer through depth slice e.z, emission leg e.rho_m and excitation leg `rho_i` (1/mm^4 of the
+// two displacements, times the light's geometry term). Zero where the stack does not fluoresce.
+void SpatialTransport::fluorescent_values(const Vertex& v, const MaterialTables& m, const Entry& e, const LightSample& ls,
+                                          double rho_i, double* f) const {
   const SpatialStack& S = *m.stack.spatial;
   const StackResponse& R = *m.stack.response;
+  for (int k = 0; k < kLanes; ++k) f[k] = 0;
+  if (!ls.valid || !S.fluorescent || R.direct.empty()) return;
   const auto a = R.weights(v.mu_o), b = R.weights(ls.wi.z);
   const auto ci = S.cosines(ls.wi.z);
-  const float* shape = t_.light_shape[ls.group].data();
-  if (!e.fluorescent) {
-    const double cont = (1.0 - v.p_spec) * cosine_hemisphere_pdf(ls.wi.z) * e.q_cont / e.q_nee;
-    const double mis = ls.pdf_solid > 0 ? power_heuristic(ls.pdf_solid, cont) : 1.0;
-    for (int k = 0; k < kLanes; ++k) {
-      if (v.p.beta[k] == 0) continue;
-      const int wl = v.p.wl[k];
-      const double f = R.elastic_at(a, b, wl) * S.elastic_density(v.co, wl, e.r_mm) / e.pdf;
-      v.p.add(k, v.p.beta[k] * f * shape[wl] * ls.g * mis / e.q_nee);
-    }
-    return;
-  }
-  if (R.direct.empty()) return;
-  const double legs = S.excitation_density(ls.group, ci, e.z, e.rho_i) / (e.pdf_m * e.pdf_i);
+  const double ex = S.excitation_density(ls.group, ci, e.z, rho_i) * ls.g;
+  if (!(ex > 0)) return;
   for (int k = 0; k < kLanes; ++k) {
     if (v.p.beta[k] == 0) continue;
     const int em = v.p.wl[k];
     const double total = S.slice_sum(ls.group, v.co, ci, em);
     if (!(total > 0)) continue;
     const double depth = S.slice_weight(ls.group, v.co, ci, em, e.z) / total;
-    const double f = R.direct_at(ls.group, a, b, em) * depth * S.emission_density(v.co, em, e.z, e.rho_m) * legs;
-    const double add = v.p.beta[k] * f * ls.g / e.q_nee;
+    f[k] = R.direct_at(ls.group, a, b, em) * depth * S.emission_density(v.co, em, e.z, e.rho_m) * ex;
+  }
+}
+
+// Next-event estimation from the entry point, for the chosen strategy's lanes: what the spatial
+// transport sends from the LED through x_i, minus what x_o's own material would send through the
+// same displacements from the anchor's connection at x_o (whose expectation, the anchor, was added
+// in full): with even light on one material the two cancel and only the light's change across the
+// spread is left to sample.
+void SpatialTransport::entry_light(Vertex& v, Entry& e, RayCounts& counts, RayLog* log) const {
+  if (v.light < 0) return;
+  const LightSample ls = connect(v, e.xi, Frame(e.xi.ns), counts, log);
+  const LightSample& lo = v.at_o;
+  if (!ls.valid && !lo.valid) return;
+  const float* shape = t_.light_shape[v.group].data();
+  double f[kLanes], h[kLanes];
+  if (!e.fluorescent) {
+    const double cont = (1.0 - v.p_spec) * cosine_hemisphere_pdf(ls.wi.z) * e.q_cont / e.q_nee;
+    const double mis = ls.pdf_solid > 0 ? power_heuristic(ls.pdf_solid, cont) : 1.0;
+    if (ls.valid) elastic_values(v, e, ls.wi.z, f);
+    if (lo.valid) {
+      const auto a = v.R.weights(v.mu_o), b = v.R.weights(lo.wi.z);
+      for (int k = 0; k < kLanes; ++k)
+        h[k] = v.p.beta[k] == 0 ? 0.0 : v.R.elastic_at(a, b, v.p.wl[k]) * v.S.elastic_density(v.co, v.p.wl[k], e.r_mm);
+    }
+    for (int k = 0; k < kLanes; ++k) {
+      if (v.p.beta[k] == 0) continue;
+      const double here = ls.valid ? f[k] * ls.g * mis : 0.0, there = lo.valid ? h[k] * lo.g * v.w_o : 0.0;
+      v.p.add(k, v.p.beta[k] * (here - there) * shape[v.p.wl[k]] / (e.pdf * e.q_nee));
+    }
+    return;
+  }
+  fluorescent_values(v, t_.materials[e.material], e, ls, e.rho_i, f);
+  fluorescent_values(v, v.mt, e, lo, e.rho_i, h);
+  for (int k = 0; k < kLanes; ++k) {
+    const double add = v.p.beta[k] * (f[k] - h[k]) / (e.pdf_m * e.pdf_i * e.q_nee);
     v.p.L[k] += float(add);
     v.p.Lf[k] += float(add);
   }
@@ -328,13 +405,15 @@ SpatialScatter SpatialTransport::continue_at_entry(Vertex& v, Entry& e, Rng& rng
   const auto ci = S.cosines(wi.z);
   const double geo = wi.z / (pdf * e.q_cont);
   const double legs = e.fluorescent ? S.excitation_density(v.group, ci, e.z, e.rho_i) / (e.pdf_m * e.pdf_i) : 0.0;
+  double fe[kLanes];
+  if (!e.fluorescent) elastic_values(v, e, wi.z, fe);
   bool any = false;
   for (int k = 0; k < kLanes; ++k) {
     if (v.p.beta[k] == 0) continue;
     const int em = v.p.wl[k];
     double f = 0;
     if (!e.fluorescent) {
-      f = R.elastic_at(a, b, em) * S.elastic_density(v.co, em, e.r_mm) / e.pdf;
+      f = fe[k] / e.pdf;
       v.p.rerad_prev[k] = false;
     } else if (!R.fluor.empty()) {
       const double total = S.slice_sum(v.group, v.co, ci, em);
@@ -391,11 +470,12 @@ SpatialScatter SpatialTransport::scatter(const SurfacePoint& xo, unsigned geom, 
   v.smooth = st.top.smooth();
   v.p_spec = v.smooth ? fresnel_dielectric(v.mu_o, st.layers[0].ior / st.ambient_ior)
                       : std::clamp(st.top_lobe.specular_albedo(v.mu_o), 0.05, 0.95);
-  top_light(v, rng, counts, log);
-  // The subsurface light: one LED chosen by power; its cosine at x_o stands in for the one at x_i.
+  // One LED for the vertex, chosen by power, and one point on it (led_seed) for every connection;
+  // its cosine at x_o stands in for the one at x_i where the entry is planned.
   if (!scene_.lights.empty()) {
     v.light = t_.light_select.sample(rng.next_double());
     v.group = t_.light_group[v.light];
+    v.led_seed = (uint64_t(rng.next_u32()) << 32) | rng.next_u32();
     const glm::dvec3 to = glm::normalize(scene_.lights[v.light].position - xo.p);
     v.mu_i_proxy = std::clamp(glm::dot(to, xo.ns), 0.05, 1.0);
   }
@@ -403,6 +483,8 @@ SpatialScatter SpatialTransport::scatter(const SurfacePoint& xo, unsigned geom, 
   v.ci_proxy = v.S.cosines(v.mu_i_proxy);
   // Which entry the path continues from (if not from the top), then which strategies run.
   const Plan pl = plan(v);
+  anchor(v, pl, counts, log);
+  top_light(v);
   const bool top = rng.next_double() < v.p_spec;
   const bool cont_fl = !top && rng.next_double() < pl.cont_fl;
   const bool cont_el = !top && !cont_fl;
@@ -416,7 +498,7 @@ SpatialScatter SpatialTransport::scatter(const SurfacePoint& xo, unsigned geom, 
     e = fl ? sample_fluorescent(v, rng, counts) : sample_elastic(v, rng, counts);
     e.q_nee = c + (1.0 - c) * run;
     e.q_cont = fl ? pl.cont_fl : 1.0 - pl.cont_fl;
-    if (e.found) entry_light(v, e, rng, counts, log);
+    if (e.found) entry_light(v, e, counts, log);
   }
   if (top) return continue_at_top(v, rng);
   Entry& e = entries[cont_fl ? 1 : 0];

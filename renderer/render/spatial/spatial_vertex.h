@@ -2,9 +2,11 @@
 // a material, light leaves at the vertex x_o but entered elsewhere (docs/layered-tissue.md,
 // "Lateral transport"). The stack's BSSRDF is taken as separable: the position-free table's
 // directional response (renderer/render/stack_response.h) times a radial profile from
-// stack_profiles.h. Per vertex:
+// stack_profiles.h. Per vertex, with one LED chosen by power and one point on it for every
+// connection the vertex makes:
 // 1. The top interface's specular lobe stays at x_o (closed form, next-event estimation there).
-// 2. Two subsurface strategies, each run with a probability that follows what it is expected to add
+// 2. The anchor: the position-free table's next-event estimate at x_o (reflected and fluorescent).
+// 3. Two subsurface strategies, each run with a probability that follows what it is expected to add
 //    (the larger always; both when the path continues from its entry), its estimates divided by it:
 //    - elastic: an entry point x_i at distance r drawn from the elastic exit profile of the lanes'
 //      wavelengths (for the viewer's cosine; by reciprocity where light leaving toward the viewer
@@ -14,13 +16,17 @@
 //      from x_m by the excitation leg (the spread of the LED's light down to Z). The fluorophores at
 //      x_m are those of the material found at x_m, so a lesion's fluorescence comes from inside
 //      the lesion and is blurred by the emission's own spread.
-//    Next-event estimation to an LED from x_i; with MIS against the continuation for reflected light,
-//    the deterministic sum over the LED's bins for fluorescence (as everywhere else).
-// 3. The continuation is the top lobe's reflection from x_o, or leaves x_i (cosine lobe) carrying
+//    Next-event estimation to the LED from x_i adds what the spatial transport sends through x_i
+//    minus what x_o's own material would send through the same displacements lit as x_o is (the
+//    anchor's integrand): a control variate whose integral is the anchor, so that even light on one
+//    material leaves nothing to sample. Reflected light with MIS against the continuation; the
+//    deterministic sum over the LED's bins for fluorescence (as everywhere else).
+// 4. The continuation is the top lobe's reflection from x_o, or leaves x_i (cosine lobe) carrying
 //    the chosen strategy's lanes (fluorescent lanes move to an excitation wavelength drawn from the
 //    table).
-// Across `regions`: reflected light follows the material where it entered, fluorescence the material
-// at the emission point (docs/layered-tissue.md, "Regions and lateral transport").
+// Across `regions`: reflected light between two materials takes the geometric mean of their
+// BSSRDFs, fluorescence the material at the emission point (docs/layered-tissue.md, "Regions and
+// lateral transport").
 #pragma once
 #include "renderer/render/embree_scene.h"
 #include "renderer/render/path_lanes.h"
@@ -58,11 +64,15 @@ class SpatialTransport {
     double run_el = 0, run_fl = 0, cont_fl = 0;
   };
   Plan plan(const Vertex& v) const;
-  LightSample connect(int light, const SurfacePoint& x, const Frame& f, Rng& rng, RayCounts& counts, RayLog* log) const;
-  void top_light(Vertex& v, Rng& rng, RayCounts& counts, RayLog* log) const;
+  LightSample connect(const Vertex& v, const SurfacePoint& x, const Frame& f, RayCounts& counts, RayLog* log) const;
+  void anchor(Vertex& v, const Plan& pl, RayCounts& counts, RayLog* log) const;
+  void top_light(Vertex& v) const;
   Entry sample_elastic(Vertex& v, Rng& rng, RayCounts& counts) const;
   Entry sample_fluorescent(Vertex& v, Rng& rng, RayCounts& counts) const;
-  void entry_light(Vertex& v, Entry& e, Rng& rng, RayCounts& counts, RayLog* log) const;
+  void elastic_values(const Vertex& v, const Entry& e, double mu_i, double* f) const;
+  void fluorescent_values(const Vertex& v, const MaterialTables& m, const Entry& e, const LightSample& ls, double rho_i,
+                          double* f) const;
+  void entry_light(Vertex& v, Entry& e, RayCounts& counts, RayLog* log) const;
   SpatialScatter continue_at_entry(Vertex& v, Entry& e, Rng& rng) const;
   SpatialScatter continue_at_top(Vertex& v, Rng& rng) const;
   bool spatial_material(int material) const;
