@@ -88,7 +88,15 @@ struct SpatialTransport::Entry {
   int z = 0;                    // fluorescent: depth slice
   double rho_m = 0, rho_i = 0;  // fluorescent: x_o to x_m (planar), x_m to x_i (mm)
   double pdf_m = 0, pdf_i = 0;  // fluorescent: densities of (Z, x_m) and of x_i given x_m
+  // elastic: the materials along the segment x_o -> x_i and the share of the segment in each.
+  static constexpr int kMaxChord = 4;
+  int chord_n = 0;
+  int chord_material[kMaxChord] = {};
+  double chord_share[kMaxChord] = {};
 };
+
+// The segment between x_o and x_i is read at this many points (the midpoints of equal parts).
+constexpr int kChordPoints = 16;
 
 // The share of entry points (elastic) and emission points (fluorescent) drawn uniformly over the
 // disc of the scene's widest search radius instead of from x_o's own profile. Across a region
@@ -227,12 +235,37 @@ SpatialTransport::Entry SpatialTransport::sample_elastic(Vertex& v, Rng& rng, Ra
   e.r_mm = glm::length(e.xi.p - v.xo.p) * kMmPerMetre;
   const int mi = e.xi.material;
   if (!spatial_material(mi) || !(e.pdf > 0)) return e;
-  // Reflected light is governed by the material where it entered (docs/layered-tissue.md, "Regions
-  // and lateral transport": against the 3D Monte Carlo of a lesion disc this rule is within the noise,
-  // the exit point's material is not).
   e.material = mi;
   e.found = true;
+  chord_materials(v, e);
   return e;
+}
+
+// The materials along the segment from x_o to x_i and the share of the segment in each
+// (docs/layered-tissue.md, "Regions and lateral transport"): the segment's points, with position
+// and texture coordinates interpolated between its ends, resolved as the surface resolves its
+// `regions`. Without regions the segment is x_o's material.
+void SpatialTransport::chord_materials(const Vertex& v, Entry& e) const {
+  const int base = embree_.info(v.geom).material;
+  e.chord_n = 1;
+  e.chord_material[0] = v.xo.material;
+  e.chord_share[0] = 1.0;
+  if (base < 0 || !scene_.materials[base].dispatches()) return;
+  e.chord_share[0] = 0.0;
+  for (int s = 0; s < kChordPoints; ++s) {
+    const double t = (s + 0.5) / kChordPoints;
+    const glm::dvec3 p = v.xo.p + t * (e.xi.p - v.xo.p);
+    const glm::vec2 uv = v.xo.uv + float(t) * (e.xi.uv - v.xo.uv);
+    int m = resolve_material(scene_, base, uv.x, uv.y, p);
+    if (!spatial_material(m)) m = v.xo.material;
+    int j = 0;
+    while (j < e.chord_n && e.chord_material[j] != m) ++j;
+    if (j == e.chord_n) {
+      if (j == Entry::kMaxChord) j = 0;  // a fifth material: counted as x_o's
+      else e.chord_material[e.chord_n++] = m;
+    }
+    e.chord_share[j] += 1.0 / kChordPoints;
+  }
 }
 
 SpatialTransport::Entry SpatialTransport::sample_fluorescent(Vertex& v, Rng& rng, RayCounts& counts) const {
@@ -309,13 +342,11 @@ SpatialTransport::Entry SpatialTransport::sample_fluorescent(Vertex& v, Rng& rng
 
 // The elastic BSSRDF's value per lane (1/(sr mm^2)) for light entering at e.xi with cosine mu_i and
 // leaving x_o toward the viewer: the table's directional factor times the exit profile at |x_i - x_o|.
-// Within one material that is the material's own; across a region boundary it is the geometric mean
-// of the entry material's and x_o's (docs/layered-tissue.md, "Regions and lateral transport"): the
-// rule is reciprocal (swapping entry and exit gives the same value), exact within one material, and
-// tends to x_o's own reflectance deep inside a region larger than the light's spread.
+// Within one material that is the material's own; where the segment from x_o to x_i crosses
+// regions, the product of each crossed material's value raised to the share of the segment it holds
+// (docs/layered-tissue.md, "Regions and lateral transport"): light is attenuated by each material in
+// proportion to the way it travels in it, as diffusion attenuates it, and the rule is reciprocal.
 void SpatialTransport::elastic_values(const Vertex& v, const Entry& e, double mu_i, double* f) const {
-  const MaterialTables& mi = t_.materials[e.material];
-  const bool across = &mi != &v.mt;
   auto one = [&](const MaterialTables& m, double* out) {
     const StackResponse& R = *m.stack.response;
     const SpatialStack& S = *m.stack.spatial;
@@ -323,11 +354,14 @@ void SpatialTransport::elastic_values(const Vertex& v, const Entry& e, double mu
     for (int k = 0; k < kLanes; ++k)
       out[k] = v.p.beta[k] == 0 ? 0.0 : R.elastic_at(a, b, v.p.wl[k]) * S.elastic_density(v.co, v.p.wl[k], e.r_mm);
   };
-  one(mi, f);
-  if (!across) return;
+  if (e.chord_n == 1) return one(t_.materials[e.chord_material[0]], f);
   double g[kLanes];
-  one(v.mt, g);
-  for (int k = 0; k < kLanes; ++k) f[k] = std::sqrt(f[k] * g[k]);
+  for (int k = 0; k < kLanes; ++k) f[k] = 1.0;
+  for (int j = 0; j < e.chord_n; ++j) {
+    if (!(e.chord_share[j] > 0)) continue;
+    one(t_.materials[e.chord_material[j]], g);
+    for (int k = 0; k < kLanes; ++k) f[k] *= std::pow(g[k], e.chord_share[j]);
+  }
 }
 
 // The direct fluorescence per lane that a material's stack sends from the LED point of `ls` to the

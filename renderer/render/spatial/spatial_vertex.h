@@ -24,9 +24,9 @@
 // 4. The continuation is the top lobe's reflection from x_o, or leaves x_i (cosine lobe) carrying
 //    the chosen strategy's lanes (fluorescent lanes move to an excitation wavelength drawn from the
 //    table).
-// Across `regions`: reflected light between two materials takes the geometric mean of their
-// BSSRDFs, fluorescence the material at the emission point (docs/layered-tissue.md, "Regions and
-// lateral transport").
+// Across `regions`: reflected light takes the product of the crossed materials' BSSRDFs, each raised
+// to its share of the segment from x_i to x_o; fluorescence the material at the emission point
+// (docs/layered-tissue.md, "Regions and lateral transport").
 #pragma once
 #include "renderer/render/embree_scene.h"
 #include "renderer/render/path_lanes.h"
@@ -69,6 +69,7 @@ class SpatialTransport {
   void top_light(Vertex& v) const;
   Entry sample_elastic(Vertex& v, Rng& rng, RayCounts& counts) const;
   Entry sample_fluorescent(Vertex& v, Rng& rng, RayCounts& counts) const;
+  void chord_materials(const Vertex& v, Entry& e) const;
   void elastic_values(const Vertex& v, const Entry& e, double mu_i, double* f) const;
   void fluorescent_values(const Vertex& v, const MaterialTables& m, const Entry& e, const LightSample& ls, double rho_i,
                           double* f) const;
