@@ -302,6 +302,235 @@ std::string diagnosis_text(const DiagnoseProblem& p, const Diagnosis& d, const R
   return o.str();
 }
 
+namespace {
+
+using ReportGroups = std::vector<std::pair<std::string, std::vector<int>>>;
+
+// Every held-out residual of the baseline and the extended model, one row per abscissa value.
+std::string residuals_csv(const DiagnoseProblem& p, const Diagnosis& d) {
+  std::ostringstream o;
+  o << "item,label,group,model,x,measured,predicted,residual\n";
+  for (int m = 0; m < 2; ++m) {
+    const CvRun& cv = m == 0 ? d.baseline_cv : d.final_cv;
+    for (int i = 0; i < p.num_items(); ++i) {
+      auto x = p.abscissa(i);
+      const ItemFit& f = cv.heldout[i];
+      for (Eigen::Index k = 0; k < f.residual.size(); ++k)
+        o << i << "," << csv_quote(p.item_label(i)) << "," << csv_quote(d.folds.names[d.folds.of_item[i]]) << ","
+          << (m == 0 ? "baseline" : "extended") << "," << x[k] << "," << f.measured[k] << "," << f.predicted[k] << ","
+          << f.residual[k] << "\n";
+    }
+  }
+  return o.str();
+}
+
+// Held-out RMSE per report group for the baseline and each model along the selection.
+BarChart heldout_rmse_chart(const DiagnoseProblem& p, const Diagnosis& d, const ReportGroups& groups, const std::string& by) {
+  BarChart b;
+  b.title = "held-out RMSE by " + by + ", baseline and each accepted cause added in turn";
+  b.ylabel = "RMSE (" + std::string(p.kind() == "spectra" ? "fraction of mean radiance" : "DN") + ")";
+  std::vector<const CvRun*> runs = {&d.baseline_cv};
+  for (auto& c : d.causes) runs.push_back(&c.trial.cv);
+  for (size_t m = 0; m < runs.size(); ++m) {
+    b.series_names.push_back(m == 0 ? std::string("baseline") : "+ " + p.candidates()[d.causes[m - 1].candidate].id);
+    b.colors.push_back(palette(static_cast<int>(m)));
+    std::vector<double> v;
+    for (auto& [name, items] : groups) v.push_back(group_gain(p, *runs[m], *runs[m], items, name).rmse_before);
+    b.values.push_back(v);
+  }
+  for (auto& g : groups) {
+    b.categories.push_back(g.first);
+    b.markers.push_back(d.floor.rmse);
+  }
+  b.marker_label = "noise floor";
+  return b;
+}
+
+// Depth against the surface blood filter, each alone on the baseline, per site and light.
+BarChart depth_chart(const std::vector<DepthRow>& rows, double floor_rmse) {
+  BarChart b;
+  b.title = "held-out RMSE per site and LED: baseline, + blood filter, + layered_tissue (each alone)";
+  b.ylabel = "RMSE (fraction of mean radiance)";
+  b.series_names = {"baseline", "+ blood_absorption", "+ layered_tissue"};
+  b.colors = {palette(0), palette(1), palette(2)};
+  b.values.resize(3);
+  for (auto& r : rows) {
+    b.categories.push_back(r.site + " " + r.light + " nm");
+    b.values[0].push_back(r.baseline);
+    b.values[1].push_back(r.blood);
+    b.values[2].push_back(r.layered);
+    b.markers.push_back(floor_rmse);
+  }
+  b.marker_label = "noise floor";
+  return b;
+}
+
+// Every candidate at the first step: held-out gain against its threshold.
+BarChart first_step_chart(const DiagnoseProblem& p, const Diagnosis& d) {
+  BarChart b;
+  b.title = "step 1: held-out MSE gain of each candidate on the baseline (dashed: threshold)";
+  b.ylabel = "mean MSE gain";
+  b.series_names = {"gain"};
+  b.colors = {"#1f77b4"};
+  b.values.resize(1);
+  for (auto& t : d.steps[0]) {
+    b.categories.push_back(p.candidates()[t.candidate].id);
+    b.values[0].push_back(t.mean_gain);
+    b.markers.push_back(t.threshold);
+  }
+  b.marker_label = "threshold";
+  return b;
+}
+
+// Mean of the held-out residuals of `items` at each abscissa value, as a series.
+PlotSeries mean_residual(const DiagnoseProblem& p, const CvRun& cv, const std::vector<int>& items) {
+  std::map<double, std::pair<double, int>> mean;
+  for (int i : items) {
+    auto x = p.abscissa(i);
+    for (size_t q = 0; q < x.size(); ++q) { mean[x[q]].first += cv.heldout[i].residual[q]; mean[x[q]].second++; }
+  }
+  PlotSeries s;
+  for (auto& [x, v] : mean) { s.x.push_back(x); s.y.push_back(v.first / v.second); }
+  return s;
+}
+
+// Spectra: held-out residuals against wavelength, baseline and extended, coloured by report group,
+// on one y range.
+std::vector<Plot> spectra_residual_panels(const DiagnoseProblem& p, const Diagnosis& d, const ReportGroups& groups,
+                                          const std::string& by) {
+  std::vector<Plot> panels;
+  std::set<double> xs;
+  for (int i = 0; i < p.num_items(); ++i)
+    for (double x : p.abscissa(i)) xs.insert(x);
+  std::vector<double> xv(xs.begin(), xs.end());
+  for (int m = 0; m < 2; ++m) {
+    const CvRun& cv = m == 0 ? d.baseline_cv : d.final_cv;
+    Plot pl;
+    pl.title = (m == 0 ? "baseline (fluorophores + leak)" : model_name(p, d, d.causes.size())) + ": held-out residuals";
+    pl.xlabel = "wavelength (nm)";
+    pl.ylabel = "measured - predicted (fraction of mean)";
+    pl.zero_line = true;
+    pl.bands.push_back({xv, std::vector<double>(xv.size(), -d.floor.rmse), std::vector<double>(xv.size(), d.floor.rmse), "#888888", 0.25,
+                        "noise floor (+/- 1 RMSE)"});
+    for (size_t g = 0; g < groups.size(); ++g) {
+      for (int i : groups[g].second) {
+        const auto& r = cv.heldout[i].residual;
+        PlotSeries s;
+        s.x = p.abscissa(i);
+        s.y.assign(r.data(), r.data() + r.size());
+        s.color = palette(static_cast<int>(g));
+        s.width = 0.7;
+        s.opacity = 0.35;
+        pl.series.push_back(s);
+      }
+      PlotSeries s = mean_residual(p, cv, groups[g].second);
+      s.color = palette(static_cast<int>(g));
+      s.width = 2.5;
+      s.label = "mean, " + by + " " + groups[g].first;
+      pl.series.push_back(s);
+    }
+    panels.push_back(pl);
+  }
+  double lo = 1e9, hi = -1e9;
+  for (auto& pl : panels)
+    for (auto& s : pl.series)
+      for (double v : s.y) { lo = std::min(lo, v); hi = std::max(hi, v); }
+  for (auto& pl : panels) { pl.ymin = lo; pl.ymax = hi; }
+  return panels;
+}
+
+// Each accepted cause's signature: mean held-out residual per report group just before and just
+// after the cause was added.
+std::vector<Plot> cause_signature_panels(const DiagnoseProblem& p, const Diagnosis& d, const ReportGroups& groups,
+                                         const std::string& by) {
+  std::vector<Plot> sig;
+  const CvRun* before = &d.baseline_cv;
+  for (size_t k = 0; k < d.causes.size(); ++k) {
+    const CvRun* after = &d.causes[k].trial.cv;
+    Plot pl;
+    pl.title = std::to_string(k + 1) + ". + " + p.candidates()[d.causes[k].candidate].id;
+    pl.xlabel = "wavelength (nm)";
+    pl.ylabel = "mean held-out residual";
+    pl.zero_line = true;
+    for (size_t g = 0; g < groups.size(); ++g)
+      for (int m = 0; m < 2; ++m) {
+        PlotSeries s = mean_residual(p, m == 0 ? *before : *after, groups[g].second);
+        s.color = palette(static_cast<int>(g));
+        s.width = m == 0 ? 1.4 : 2.2;
+        s.dashed = m == 0;
+        s.label = (m == 0 ? "before, " : "after, ") + by + " " + groups[g].first;
+        pl.series.push_back(s);
+      }
+    sig.push_back(pl);
+    before = after;
+  }
+  return sig;
+}
+
+// A few spectra (one per site, light and report group, at most six): measured, baseline and
+// extended held-out predictions.
+std::vector<Plot> example_fit_panels(const DiagnoseProblem& p, const Diagnosis& d) {
+  std::vector<Plot> ex;
+  std::set<std::string> seen;
+  auto vec = [](const Eigen::VectorXd& v) { return std::vector<double>(v.data(), v.data() + v.size()); };
+  for (int i = 0; i < p.num_items() && ex.size() < 6; ++i) {
+    std::string key = p.condition(i, "site") + "|" + p.condition(i, "light_nm") + "|" + p.condition(i, d.options.report_by);
+    if (seen.count(key)) continue;
+    seen.insert(key);
+    Plot pl;
+    pl.title = p.item_label(i);
+    pl.xlabel = "wavelength (nm)";
+    pl.ylabel = "radiance / mean";
+    auto x = p.abscissa(i);
+    pl.series.push_back({x, vec(d.baseline_cv.heldout[i].measured), "#000000", 1.6, 1, false, true, false, "measured"});
+    pl.series.push_back({x, vec(d.baseline_cv.heldout[i].predicted), "#ff7f0e", 1.6, 1, true, true, false, "baseline (held out)"});
+    pl.series.push_back({x, vec(d.final_cv.heldout[i].predicted), "#1f77b4", 1.6, 1, false, true, false, "extended (held out)"});
+    ex.push_back(pl);
+  }
+  return ex;
+}
+
+const char* const kChannelName[3] = {"R", "G", "B"};
+const char* const kChannelColor[3] = {"#d62728", "#2ca02c", "#1f77b4"};
+
+// Camera patches, baseline and extended: held-out predicted against measured raw means
+// (`scatter`), or the held-out residual per patch.
+std::vector<Plot> camera_panels(const DiagnoseProblem& p, const Diagnosis& d, bool scatter) {
+  std::vector<Plot> panels;
+  for (int m = 0; m < 2; ++m) {
+    const CvRun& cv = m == 0 ? d.baseline_cv : d.final_cv;
+    Plot pl;
+    if (scatter) {
+      pl.title = (m == 0 ? std::string("baseline (linear sensor)") : model_name(p, d, d.causes.size())) + ", held out";
+      pl.xlabel = "measured (DN)";
+      pl.ylabel = "predicted (DN)";
+      pl.diagonal = true;
+    } else {
+      pl.title = m == 0 ? "baseline" : model_name(p, d, d.causes.size());
+      pl.xlabel = "patch (item index)";
+      pl.ylabel = "measured - predicted (DN)";
+      pl.zero_line = true;
+    }
+    for (int c = 0; c < 3; ++c) {
+      PlotSeries s;
+      s.line = false;
+      s.markers = true;
+      s.color = kChannelColor[c];
+      if (scatter) s.opacity = 0.7;
+      s.label = kChannelName[c];
+      for (int i = 0; i < p.num_items(); ++i) {
+        s.x.push_back(scatter ? cv.heldout[i].measured[c] : i);
+        s.y.push_back(scatter ? cv.heldout[i].predicted[c] : cv.heldout[i].residual[c]);
+      }
+      pl.series.push_back(s);
+    }
+    panels.push_back(pl);
+  }
+  return panels;
+}
+
+}  // namespace
+
 std::vector<std::string> write_diagnosis_files(const DiagnoseProblem& p, const Diagnosis& d, const ReportContext& ctx,
                                                const std::filesystem::path& dir) {
   std::error_code ec;
@@ -314,233 +543,24 @@ std::vector<std::string> write_diagnosis_files(const DiagnoseProblem& p, const D
   };
   out("report.json", diagnosis_json(p, d, ctx).dump(2) + "\n");
   out("report.txt", diagnosis_text(p, d, ctx));
+  out("residuals.csv", residuals_csv(p, d));
 
-  // Residual table: every held-out residual of the baseline and the extended model.
-  {
-    std::ostringstream o;
-    o << "item,label,group,model,x,measured,predicted,residual\n";
-    for (int m = 0; m < 2; ++m) {
-      const CvRun& cv = m == 0 ? d.baseline_cv : d.final_cv;
-      for (int i = 0; i < p.num_items(); ++i) {
-        auto x = p.abscissa(i);
-        const ItemFit& f = cv.heldout[i];
-        for (Eigen::Index k = 0; k < f.residual.size(); ++k)
-          o << i << "," << csv_quote(p.item_label(i)) << "," << csv_quote(d.folds.names[d.folds.of_item[i]]) << ","
-            << (m == 0 ? "baseline" : "extended") << "," << x[k] << "," << f.measured[k] << "," << f.predicted[k] << ","
-            << f.residual[k] << "\n";
-      }
-    }
-    out("residuals.csv", o.str());
-  }
-
-  auto groups = report_groups(p, d);
-  std::string by = d.options.report_by.empty() ? "all" : d.options.report_by;
-
-  // Held-out gain per report group for the baseline and each model along the selection.
-  {
-    BarChart b;
-    b.title = "held-out RMSE by " + by + ", baseline and each accepted cause added in turn";
-    b.ylabel = "RMSE (" + std::string(p.kind() == "spectra" ? "fraction of mean radiance" : "DN") + ")";
-    std::vector<const CvRun*> runs = {&d.baseline_cv};
-    for (auto& c : d.causes) runs.push_back(&c.trial.cv);
-    for (size_t m = 0; m < runs.size(); ++m) {
-      b.series_names.push_back(m == 0 ? std::string("baseline") : "+ " + p.candidates()[d.causes[m - 1].candidate].id);
-      b.colors.push_back(palette(static_cast<int>(m)));
-      std::vector<double> v;
-      for (auto& [name, items] : groups) v.push_back(group_gain(p, *runs[m], *runs[m], items, name).rmse_before);
-      b.values.push_back(v);
-    }
-    for (auto& g : groups) {
-      b.categories.push_back(g.first);
-      b.markers.push_back(d.floor.rmse);
-    }
-    b.marker_label = "noise floor";
-    out("heldout_rmse_by_" + slug(by) + ".svg", svg_bars(b, 760, 440));
-  }
-  // Depth against the surface blood filter, each alone on the baseline, per site and light.
-  if (auto rows = depth_comparison(p, d); !rows.empty()) {
-    BarChart b;
-    b.title = "held-out RMSE per site and LED: baseline, + blood filter, + layered_tissue (each alone)";
-    b.ylabel = "RMSE (fraction of mean radiance)";
-    b.series_names = {"baseline", "+ blood_absorption", "+ layered_tissue"};
-    b.colors = {palette(0), palette(1), palette(2)};
-    b.values.resize(3);
-    for (auto& r : rows) {
-      b.categories.push_back(r.site + " " + r.light + " nm");
-      b.values[0].push_back(r.baseline);
-      b.values[1].push_back(r.blood);
-      b.values[2].push_back(r.layered);
-      b.markers.push_back(d.floor.rmse);
-    }
-    b.marker_label = "noise floor";
-    out("layered_vs_blood.svg", svg_bars(b, 760, 440));
-  }
-  // Every candidate at the first step: held-out gain against its threshold.
-  if (!d.steps.empty()) {
-    BarChart b;
-    b.title = "step 1: held-out MSE gain of each candidate on the baseline (dashed: threshold)";
-    b.ylabel = "mean MSE gain";
-    b.series_names = {"gain"};
-    b.colors = {"#1f77b4"};
-    b.values.resize(1);
-    for (auto& t : d.steps[0]) {
-      b.categories.push_back(p.candidates()[t.candidate].id);
-      b.values[0].push_back(t.mean_gain);
-      b.markers.push_back(t.threshold);
-    }
-    b.marker_label = "threshold";
-    out("candidates_step1.svg", svg_bars(b, 860, 460));
-  }
+  const ReportGroups groups = report_groups(p, d);
+  const std::string by = d.options.report_by.empty() ? "all" : d.options.report_by;
+  out("heldout_rmse_by_" + slug(by) + ".svg", svg_bars(heldout_rmse_chart(p, d, groups, by), 760, 440));
+  if (auto rows = depth_comparison(p, d); !rows.empty()) out("layered_vs_blood.svg", svg_bars(depth_chart(rows, d.floor.rmse), 760, 440));
+  if (!d.steps.empty()) out("candidates_step1.svg", svg_bars(first_step_chart(p, d), 860, 460));
 
   if (p.kind() == "spectra") {
-    // Held-out residuals against wavelength, baseline and extended, coloured by report group.
-    std::vector<Plot> panels;
-    for (int m = 0; m < 2; ++m) {
-      const CvRun& cv = m == 0 ? d.baseline_cv : d.final_cv;
-      Plot pl;
-      pl.title = (m == 0 ? "baseline (fluorophores + leak)" : model_name(p, d, d.causes.size())) + ": held-out residuals";
-      pl.xlabel = "wavelength (nm)";
-      pl.ylabel = "measured - predicted (fraction of mean)";
-      pl.zero_line = true;
-      std::set<double> xs;
-      for (int i = 0; i < p.num_items(); ++i)
-        for (double x : p.abscissa(i)) xs.insert(x);
-      std::vector<double> xv(xs.begin(), xs.end());
-      pl.bands.push_back({xv, std::vector<double>(xv.size(), -d.floor.rmse), std::vector<double>(xv.size(), d.floor.rmse), "#888888", 0.25,
-                          "noise floor (+/- 1 RMSE)"});
-      for (size_t g = 0; g < groups.size(); ++g) {
-        std::map<double, std::pair<double, int>> mean;
-        for (int i : groups[g].second) {
-          auto x = p.abscissa(i);
-          const auto& r = cv.heldout[i].residual;
-          PlotSeries s;
-          s.x = x;
-          s.y.assign(r.data(), r.data() + r.size());
-          s.color = palette(static_cast<int>(g));
-          s.width = 0.7;
-          s.opacity = 0.35;
-          pl.series.push_back(s);
-          for (size_t k = 0; k < x.size(); ++k) { mean[x[k]].first += r[k]; mean[x[k]].second++; }
-        }
-        PlotSeries s;
-        for (auto& [x, v] : mean) { s.x.push_back(x); s.y.push_back(v.first / v.second); }
-        s.color = palette(static_cast<int>(g));
-        s.width = 2.5;
-        s.label = "mean, " + by + " " + groups[g].first;
-        pl.series.push_back(s);
-      }
-      panels.push_back(pl);
-    }
-    double lo = 1e9, hi = -1e9;
-    for (auto& pl : panels)
-      for (auto& s : pl.series)
-        for (double v : s.y) { lo = std::min(lo, v); hi = std::max(hi, v); }
-    for (auto& pl : panels) { pl.ymin = lo; pl.ymax = hi; }
-    out("heldout_residuals.svg", svg_panels(panels, 1, 900, 380, "held-out residuals (each spectrum predicted by a model fitted without its group)"));
-
-    // Each accepted cause's signature: mean held-out residual per report group just before and
-    // just after the cause was added.
-    if (!d.causes.empty()) {
-      std::vector<Plot> sig;
-      const CvRun* before = &d.baseline_cv;
-      for (size_t k = 0; k < d.causes.size(); ++k) {
-        const CvRun* after = &d.causes[k].trial.cv;
-        Plot pl;
-        pl.title = std::to_string(k + 1) + ". + " + p.candidates()[d.causes[k].candidate].id;
-        pl.xlabel = "wavelength (nm)";
-        pl.ylabel = "mean held-out residual";
-        pl.zero_line = true;
-        for (size_t g = 0; g < groups.size(); ++g)
-          for (int m = 0; m < 2; ++m) {
-            const CvRun* cv = m == 0 ? before : after;
-            std::map<double, std::pair<double, int>> mean;
-            for (int i : groups[g].second) {
-              auto x = p.abscissa(i);
-              for (size_t q = 0; q < x.size(); ++q) { mean[x[q]].first += cv->heldout[i].residual[q]; mean[x[q]].second++; }
-            }
-            PlotSeries s;
-            for (auto& [x, v] : mean) { s.x.push_back(x); s.y.push_back(v.first / v.second); }
-            s.color = palette(static_cast<int>(g));
-            s.width = m == 0 ? 1.4 : 2.2;
-            s.dashed = m == 0;
-            s.label = (m == 0 ? "before, " : "after, ") + by + " " + groups[g].first;
-            pl.series.push_back(s);
-          }
-        sig.push_back(pl);
-        before = after;
-      }
-      out("cause_signatures.svg", svg_panels(sig, 2, 560, 330, "what each accepted cause explains (held-out residual before -> after)"));
-    }
-
-    // A few spectra: measured, baseline and extended held-out predictions.
-    std::vector<Plot> ex;
-    std::set<std::string> seen;
-    for (int i = 0; i < p.num_items() && ex.size() < 6; ++i) {
-      std::string key = p.condition(i, "site") + "|" + p.condition(i, "light_nm") + "|" + p.condition(i, d.options.report_by);
-      if (seen.count(key)) continue;
-      seen.insert(key);
-      Plot pl;
-      pl.title = p.item_label(i);
-      pl.xlabel = "wavelength (nm)";
-      pl.ylabel = "radiance / mean";
-      auto x = p.abscissa(i);
-      auto vec = [](const Eigen::VectorXd& v) { return std::vector<double>(v.data(), v.data() + v.size()); };
-      pl.series.push_back({x, vec(d.baseline_cv.heldout[i].measured), "#000000", 1.6, 1, false, true, false, "measured"});
-      pl.series.push_back({x, vec(d.baseline_cv.heldout[i].predicted), "#ff7f0e", 1.6, 1, true, true, false, "baseline (held out)"});
-      pl.series.push_back({x, vec(d.final_cv.heldout[i].predicted), "#1f77b4", 1.6, 1, false, true, false, "extended (held out)"});
-      ex.push_back(pl);
-    }
-    out("heldout_fits.svg", svg_panels(ex, 2, 560, 330, "measured spectra and held-out predictions"));
+    out("heldout_residuals.svg", svg_panels(spectra_residual_panels(p, d, groups, by), 1, 900, 380,
+                                            "held-out residuals (each spectrum predicted by a model fitted without its group)"));
+    if (!d.causes.empty())
+      out("cause_signatures.svg", svg_panels(cause_signature_panels(p, d, groups, by), 2, 560, 330,
+                                             "what each accepted cause explains (held-out residual before -> after)"));
+    out("heldout_fits.svg", svg_panels(example_fit_panels(p, d), 2, 560, 330, "measured spectra and held-out predictions"));
   } else {
-    std::vector<Plot> panels;
-    const char* ch[3] = {"R", "G", "B"};
-    const char* col[3] = {"#d62728", "#2ca02c", "#1f77b4"};
-    for (int m = 0; m < 2; ++m) {
-      const CvRun& cv = m == 0 ? d.baseline_cv : d.final_cv;
-      Plot pl;
-      pl.title = (m == 0 ? std::string("baseline (linear sensor)") : model_name(p, d, d.causes.size())) + ", held out";
-      pl.xlabel = "measured (DN)";
-      pl.ylabel = "predicted (DN)";
-      pl.diagonal = true;
-      for (int c = 0; c < 3; ++c) {
-        PlotSeries s;
-        s.line = false;
-        s.markers = true;
-        s.color = col[c];
-        s.opacity = 0.7;
-        s.label = ch[c];
-        for (int i = 0; i < p.num_items(); ++i) {
-          s.x.push_back(cv.heldout[i].measured[c]);
-          s.y.push_back(cv.heldout[i].predicted[c]);
-        }
-        pl.series.push_back(s);
-      }
-      panels.push_back(pl);
-    }
-    out("heldout_scatter.svg", svg_panels(panels, 2, 520, 460, "camera: predicted vs measured raw means"));
-    std::vector<Plot> rp;
-    for (int m = 0; m < 2; ++m) {
-      const CvRun& cv = m == 0 ? d.baseline_cv : d.final_cv;
-      Plot pl;
-      pl.title = m == 0 ? "baseline" : model_name(p, d, d.causes.size());
-      pl.xlabel = "patch (item index)";
-      pl.ylabel = "measured - predicted (DN)";
-      pl.zero_line = true;
-      for (int c = 0; c < 3; ++c) {
-        PlotSeries s;
-        s.line = false;
-        s.markers = true;
-        s.color = col[c];
-        s.label = ch[c];
-        for (int i = 0; i < p.num_items(); ++i) {
-          s.x.push_back(i);
-          s.y.push_back(cv.heldout[i].residual[c]);
-        }
-        pl.series.push_back(s);
-      }
-      rp.push_back(pl);
-    }
-    out("heldout_residuals.svg", svg_panels(rp, 1, 900, 320, "camera: held-out residuals per patch"));
+    out("heldout_scatter.svg", svg_panels(camera_panels(p, d, true), 2, 520, 460, "camera: predicted vs measured raw means"));
+    out("heldout_residuals.svg", svg_panels(camera_panels(p, d, false), 1, 900, 320, "camera: held-out residuals per patch"));
   }
   return files;
 }
