@@ -114,6 +114,89 @@ std::string solo_text(const DiagnoseProblem& p, const CauseResult& c) {
 
 }  // namespace
 
+namespace {
+
+// One accepted cause: what it is, its parameters with uncertainties and units, and its held-out gains.
+nlohmann::json cause_json(const DiagnoseProblem& p, const Diagnosis& d, const CauseResult& c) {
+  const CandidateSpec& spec = p.candidates()[c.candidate];
+  nlohmann::json par = nlohmann::json::object(), unc = nlohmann::json::object(), units = nlohmann::json::object();
+  nlohmann::json curv = nlohmann::json::object(), jack = nlohmann::json::object();
+  for (size_t k = 0; k < spec.params.size(); ++k) {
+    par[spec.params[k].name] = c.theta[k];
+    unc[spec.params[k].name] = c.uncertainty[k];
+    units[spec.params[k].name] = spec.params[k].unit;
+    curv[spec.params[k].name] = c.se_curvature[k];
+    jack[spec.params[k].name] = c.se_jackknife[k];
+  }
+  for (auto& dp : c.derived) {
+    par[dp.name] = dp.value;
+    unc[dp.name] = dp.uncertainty;
+    units[dp.name] = dp.unit;
+  }
+  if (spec.name == "extra_fluorophore") par["fluorophore"] = spec.id.substr(spec.id.find(':') + 1);
+  nlohmann::json cj = {{"name", spec.name},
+                       {"id", spec.id},
+                       {"title", spec.title},
+                       {"instrument", spec.instrument},
+                       {"description", c.words},
+                       {"step", c.step},
+                       {"parameters", par},
+                       {"uncertainty", unc},
+                       {"units", units},
+                       {"uncertainty_curvature", curv},
+                       {"uncertainty_group_jackknife", jack},
+                       {"rmse_before_heldout", c.trial.rmse_before},
+                       {"rmse_after_heldout", c.trial.rmse_after},
+                       {"mean_mse_gain", c.trial.mean_gain},
+                       {"threshold", c.trial.threshold},
+                       {"folds_improved", c.trial.folds_improved},
+                       {"folds", c.trial.folds},
+                       {"solo_rmse_after_heldout", c.solo.candidate >= 0 ? nlohmann::json(c.solo.rmse_after) : nlohmann::json(nullptr)},
+                       {"carried_by", c.trial.carried_by},
+                       {"carriers", c.trial.carriers},
+                       {"at_bound", c.at_bound}};
+  if (!d.options.report_by.empty()) {
+    cj["by_" + d.options.report_by] = gains_json(c.by_report);
+    if (c.solo.candidate >= 0) cj["solo_by_" + d.options.report_by] = gains_json(c.solo_by_report);
+  }
+  return cj;
+}
+
+// The causes set aside (a better fit held out that the selection rules did not accept).
+nlohmann::json set_aside_json(const DiagnoseProblem& p, const Diagnosis& d) {
+  nlohmann::json aside = nlohmann::json::array();
+  for (auto& a : d.set_aside)
+    aside.push_back({{"step", a.step}, {"id", p.candidates()[a.candidate].id}, {"rmse_before_heldout", a.rmse_before},
+                     {"rmse_after_heldout", a.rmse_after}, {"reason", a.reason}, {"description", a.words}, {"accepted_instead", a.instead}});
+  return aside;
+}
+
+// One instrument, checked: each instrument cause's parameters fitted on each value of check_by.
+nlohmann::json instrument_check_json(const Diagnosis& d) {
+  nlohmann::json checks = nlohmann::json::array();
+  for (auto& c : d.instrument_check) {
+    nlohmann::json by = nlohmann::json::object();
+    for (auto& [v, x] : c.by_value) by[v] = x;
+    checks.push_back({{"cause", c.cause_id}, {"parameter", c.param}, {"joint", c.joint}, {"uncertainty", c.uncertainty},
+                      {"by_" + d.options.check_by, by}, {"disagree", c.disagree}});
+  }
+  return checks;
+}
+
+// Mean share of each baseline column in the final full-data fit (spectra: fluorophores, leak).
+std::map<std::string, double> mean_fractions(const DiagnoseProblem& p, const Diagnosis& d) {
+  std::vector<int> all(p.num_items());
+  for (int i = 0; i < p.num_items(); ++i) all[i] = i;
+  auto fits = p.evaluate(d.final_fit.state, all);
+  std::map<std::string, double> share;
+  for (auto& f : fits)
+    for (auto& [k, v] : f.locals)
+      if (k.rfind("fraction:", 0) == 0) share[k.substr(9)] += v / fits.size();
+  return share;
+}
+
+}  // namespace
+
 nlohmann::json diagnosis_json(const DiagnoseProblem& p, const Diagnosis& d, const ReportContext& ctx) {
   nlohmann::json j;
   j["tool"] = "oralfluor diagnose";
@@ -148,64 +231,10 @@ nlohmann::json diagnosis_json(const DiagnoseProblem& p, const Diagnosis& d, cons
                                {"common_shape", d.common_shape}};
   j["significant"] = !d.causes.empty();
   nlohmann::json causes = nlohmann::json::array();
-  for (auto& c : d.causes) {
-    const CandidateSpec& spec = p.candidates()[c.candidate];
-    nlohmann::json par = nlohmann::json::object(), unc = nlohmann::json::object(), units = nlohmann::json::object();
-    nlohmann::json curv = nlohmann::json::object(), jack = nlohmann::json::object();
-    for (size_t k = 0; k < spec.params.size(); ++k) {
-      par[spec.params[k].name] = c.theta[k];
-      unc[spec.params[k].name] = c.uncertainty[k];
-      units[spec.params[k].name] = spec.params[k].unit;
-      curv[spec.params[k].name] = c.se_curvature[k];
-      jack[spec.params[k].name] = c.se_jackknife[k];
-    }
-    for (auto& dp : c.derived) {
-      par[dp.name] = dp.value;
-      unc[dp.name] = dp.uncertainty;
-      units[dp.name] = dp.unit;
-    }
-    if (spec.name == "extra_fluorophore") par["fluorophore"] = spec.id.substr(spec.id.find(':') + 1);
-    nlohmann::json cj = {{"name", spec.name},
-                         {"id", spec.id},
-                         {"title", spec.title},
-                         {"instrument", spec.instrument},
-                         {"description", c.words},
-                         {"step", c.step},
-                         {"parameters", par},
-                         {"uncertainty", unc},
-                         {"units", units},
-                         {"uncertainty_curvature", curv},
-                         {"uncertainty_group_jackknife", jack},
-                         {"rmse_before_heldout", c.trial.rmse_before},
-                         {"rmse_after_heldout", c.trial.rmse_after},
-                         {"mean_mse_gain", c.trial.mean_gain},
-                         {"threshold", c.trial.threshold},
-                         {"folds_improved", c.trial.folds_improved},
-                         {"folds", c.trial.folds},
-                         {"solo_rmse_after_heldout", c.solo.candidate >= 0 ? nlohmann::json(c.solo.rmse_after) : nlohmann::json(nullptr)},
-                         {"carried_by", c.trial.carried_by},
-                         {"carriers", c.trial.carriers},
-                         {"at_bound", c.at_bound}};
-    if (!d.options.report_by.empty()) {
-      cj["by_" + d.options.report_by] = gains_json(c.by_report);
-      if (c.solo.candidate >= 0) cj["solo_by_" + d.options.report_by] = gains_json(c.solo_by_report);
-    }
-    causes.push_back(cj);
-  }
+  for (auto& c : d.causes) causes.push_back(cause_json(p, d, c));
   j["causes"] = causes;
-  nlohmann::json aside = nlohmann::json::array();
-  for (auto& a : d.set_aside)
-    aside.push_back({{"step", a.step}, {"id", p.candidates()[a.candidate].id}, {"rmse_before_heldout", a.rmse_before},
-                     {"rmse_after_heldout", a.rmse_after}, {"reason", a.reason}, {"description", a.words}, {"accepted_instead", a.instead}});
-  j["set_aside"] = aside;
-  nlohmann::json checks = nlohmann::json::array();
-  for (auto& c : d.instrument_check) {
-    nlohmann::json by = nlohmann::json::object();
-    for (auto& [v, x] : c.by_value) by[v] = x;
-    checks.push_back({{"cause", c.cause_id}, {"parameter", c.param}, {"joint", c.joint}, {"uncertainty", c.uncertainty},
-                      {"by_" + d.options.check_by, by}, {"disagree", c.disagree}});
-  }
-  j["instrument_check"] = checks;
+  j["set_aside"] = set_aside_json(p, d);
+  j["instrument_check"] = instrument_check_json(d);
   nlohmann::json tried = nlohmann::json::array();
   for (size_t s = 0; s < d.steps.size(); ++s)
     for (auto& t : d.steps[s]) tried.push_back(trial_json(p, t, static_cast<int>(s + 1)));
@@ -219,15 +248,7 @@ nlohmann::json diagnosis_json(const DiagnoseProblem& p, const Diagnosis& d, cons
                    {"blood_absorption", r.blood}, {"layered_tissue", r.layered}});
     j["layered_vs_blood_heldout_rmse"] = t;
   }
-  // Mean share of each baseline column in the final full-data fit (spectra: fluorophores, leak).
-  std::vector<int> all(p.num_items());
-  for (int i = 0; i < p.num_items(); ++i) all[i] = i;
-  auto fits = p.evaluate(d.final_fit.state, all);
-  std::map<std::string, double> share;
-  for (auto& f : fits)
-    for (auto& [k, v] : f.locals)
-      if (k.rfind("fraction:", 0) == 0) share[k.substr(9)] += v / fits.size();
-  if (!share.empty()) j["mean_fractions_extended_fit"] = share;
+  if (auto share = mean_fractions(p, d); !share.empty()) j["mean_fractions_extended_fit"] = share;
   return j;
 }
 
