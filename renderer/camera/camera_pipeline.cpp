@@ -134,23 +134,6 @@ ExposureChoice choose_exposure(const SpectralImage& img, const CameraDescription
   return c;
 }
 
-// The field geometry of the image the sensor sees: field and sensor angles per pixel, the optical
-// axis the optics stage moved, and the chief-ray angle given at the farthest corner.
-FieldGeometry camera_geometry(const SpectralImage& img, const CameraDescription& cam, const OpticalImage& optical,
-                              std::vector<std::string>* warnings) {
-  FieldGeometry g = make_field_geometry(cam.lens, cam.sensor, img.width, img.height,
-                                        cam.optics.enabled ? std::nullopt : render_vfov_deg(img, warnings), warnings);
-  g.axis_x_px = optical.axis_x_px;
-  g.axis_y_px = optical.axis_y_px;
-  if (cam.lens.sensor_cra_deg >= 0) {  // the CRA is given at the farthest corner, which the axis offset moves
-    double rmax = g.max_radius_px();
-    g.sensor_tan_per_px = rmax > 0 ? std::tan(cam.lens.sensor_cra_deg * kPi / 180.0) / rmax : 0.0;
-  }
-  if (g.source == FieldGeometry::Source::kNone && cam.filters.any_interference() && cam.lens.sensor_cra_deg < 0)
-    warnings->push_back("interference filters are evaluated at normal incidence everywhere (no field angles)");
-  return g;
-}
-
 // The exposure (fixed or automatic) and the expected electrons at it: automatic exposure has
 // evaluated the image already, and electrons scale with the exposure.
 void expose(const SpectralImage& img, const CameraRunOptions& opt, CameraRun& run) {
@@ -266,6 +249,19 @@ nlohmann::json camera_summary(const CameraRun& run, const OpticalImage& optical,
 
 }  // namespace
 
+FieldGeometry sensor_field_geometry(const SpectralImage& img, const CameraDescription& cam, double axis_x_px, double axis_y_px,
+                                    std::vector<std::string>* warnings) {
+  FieldGeometry g = make_field_geometry(cam.lens, cam.sensor, img.width, img.height,
+                                        cam.optics.enabled ? std::nullopt : render_vfov_deg(img, warnings), warnings);
+  g.axis_x_px = axis_x_px;
+  g.axis_y_px = axis_y_px;
+  if (cam.lens.sensor_cra_deg >= 0) {  // the CRA is given at the farthest corner, which the axis offset moves
+    double rmax = g.max_radius_px();
+    g.sensor_tan_per_px = rmax > 0 ? std::tan(cam.lens.sensor_cra_deg * kPi / 180.0) / rmax : 0.0;
+  }
+  return g;
+}
+
 CameraRun simulate_camera(const SpectralImage& radiance, const CameraDescription& cam_in, const CameraRunOptions& opt,
                           const std::string& radiance_file) {
   CameraRun run;
@@ -278,7 +274,9 @@ CameraRun simulate_camera(const SpectralImage& radiance, const CameraDescription
     run.warnings.insert(run.warnings.end(), optical.warnings.begin(), optical.warnings.end());
   }
   const SpectralImage& img = cam.optics.enabled ? optical.image : radiance;
-  run.geometry = camera_geometry(img, cam, optical, &run.warnings);
+  run.geometry = sensor_field_geometry(img, cam, optical.axis_x_px, optical.axis_y_px, &run.warnings);
+  if (run.geometry.source == FieldGeometry::Source::kNone && cam.filters.any_interference() && cam.lens.sensor_cra_deg < 0)
+    run.warnings.push_back("interference filters are evaluated at normal incidence everywhere (no field angles)");
   if (auto u = img.attributes.find("emissiveUnits"); u != img.attributes.end() && u->second != "W.m^-2.sr^-1")
     run.warnings.push_back("the EXR's emissiveUnits are \"" + u->second +
                            "\", not W.m^-2.sr^-1: electron counts assume W sr^-1 m^-2 nm^-1");
