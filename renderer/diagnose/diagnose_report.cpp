@@ -10,7 +10,8 @@
 #include "renderer/core/atomic_file.h"
 #include "renderer/core/csv.h"
 #include "renderer/core/error.h"
-#include "renderer/diagnose/svg_plot.h"
+#include "renderer/plot/charts.h"
+#include "renderer/plot/palette.h"
 
 namespace ofl {
 
@@ -354,7 +355,7 @@ BarChart heldout_rmse_chart(const DiagnoseProblem& p, const Diagnosis& d, const 
   for (auto& c : d.causes) runs.push_back(&c.trial.cv);
   for (size_t m = 0; m < runs.size(); ++m) {
     b.series_names.push_back(m == 0 ? std::string("baseline") : "+ " + p.candidates()[d.causes[m - 1].candidate].id);
-    b.colors.push_back(palette(static_cast<int>(m)));
+    b.colors.push_back(palette_color(static_cast<int>(m)));
     std::vector<double> v;
     for (auto& [name, items] : groups) v.push_back(group_gain(p, *runs[m], *runs[m], items, name).rmse_before);
     b.values.push_back(v);
@@ -373,7 +374,7 @@ BarChart depth_chart(const std::vector<DepthRow>& rows, double floor_rmse) {
   b.title = "held-out RMSE per site and LED: baseline, + blood filter, + layered_tissue (each alone)";
   b.ylabel = "RMSE (fraction of mean radiance)";
   b.series_names = {"baseline", "+ blood_absorption", "+ layered_tissue"};
-  b.colors = {palette(0), palette(1), palette(2)};
+  b.colors = {palette_color(0), palette_color(1), palette_color(2)};
   b.values.resize(3);
   for (auto& r : rows) {
     b.categories.push_back(r.site + " " + r.light + " nm");
@@ -392,7 +393,7 @@ BarChart first_step_chart(const DiagnoseProblem& p, const Diagnosis& d) {
   b.title = "step 1: held-out MSE gain of each candidate on the baseline (dashed: threshold)";
   b.ylabel = "mean MSE gain";
   b.series_names = {"gain"};
-  b.colors = {"#1f77b4"};
+  b.colors = {palette_color(0)};
   b.values.resize(1);
   for (auto& t : d.steps[0]) {
     b.categories.push_back(p.candidates()[t.candidate].id);
@@ -431,7 +432,7 @@ std::vector<Plot> spectra_residual_panels(const DiagnoseProblem& p, const Diagno
     pl.xlabel = "wavelength (nm)";
     pl.ylabel = "measured - predicted (fraction of mean)";
     pl.zero_line = true;
-    pl.bands.push_back({xv, std::vector<double>(xv.size(), -d.floor.rmse), std::vector<double>(xv.size(), d.floor.rmse), "#888888", 0.25,
+    pl.bands.push_back({xv, std::vector<double>(xv.size(), -d.floor.rmse), std::vector<double>(xv.size(), d.floor.rmse), rgb_hex(0x888888), 0.25,
                         "noise floor (+/- 1 RMSE)"});
     for (size_t g = 0; g < groups.size(); ++g) {
       for (int i : groups[g].second) {
@@ -439,13 +440,13 @@ std::vector<Plot> spectra_residual_panels(const DiagnoseProblem& p, const Diagno
         PlotSeries s;
         s.x = p.abscissa(i);
         s.y.assign(r.data(), r.data() + r.size());
-        s.color = palette(static_cast<int>(g));
+        s.color = palette_color(static_cast<int>(g));
         s.width = 0.7;
         s.opacity = 0.35;
         pl.series.push_back(s);
       }
       PlotSeries s = mean_residual(p, cv, groups[g].second);
-      s.color = palette(static_cast<int>(g));
+      s.color = palette_color(static_cast<int>(g));
       s.width = 2.5;
       s.label = "mean, " + by + " " + groups[g].first;
       pl.series.push_back(s);
@@ -476,7 +477,7 @@ std::vector<Plot> cause_signature_panels(const DiagnoseProblem& p, const Diagnos
     for (size_t g = 0; g < groups.size(); ++g)
       for (int m = 0; m < 2; ++m) {
         PlotSeries s = mean_residual(p, m == 0 ? *before : *after, groups[g].second);
-        s.color = palette(static_cast<int>(g));
+        s.color = palette_color(static_cast<int>(g));
         s.width = m == 0 ? 1.4 : 2.2;
         s.dashed = m == 0;
         s.label = (m == 0 ? "before, " : "after, ") + by + " " + groups[g].first;
@@ -503,16 +504,16 @@ std::vector<Plot> example_fit_panels(const DiagnoseProblem& p, const Diagnosis& 
     pl.xlabel = "wavelength (nm)";
     pl.ylabel = "radiance / mean";
     auto x = p.abscissa(i);
-    pl.series.push_back({x, vec(d.baseline_cv.heldout[i].measured), "#000000", 1.6, 1, false, true, false, "measured"});
-    pl.series.push_back({x, vec(d.baseline_cv.heldout[i].predicted), "#ff7f0e", 1.6, 1, true, true, false, "baseline (held out)"});
-    pl.series.push_back({x, vec(d.final_cv.heldout[i].predicted), "#1f77b4", 1.6, 1, false, true, false, "extended (held out)"});
+    pl.series.push_back({x, vec(d.baseline_cv.heldout[i].measured), rgb_hex(0x000000), 1.6, 1, false, true, false, "measured"});
+    pl.series.push_back({x, vec(d.baseline_cv.heldout[i].predicted), palette_color(3), 1.6, 1, true, true, false, "baseline (held out)"});
+    pl.series.push_back({x, vec(d.final_cv.heldout[i].predicted), palette_color(0), 1.6, 1, false, true, false, "extended (held out)"});
     ex.push_back(pl);
   }
   return ex;
 }
 
 const char* const kChannelName[3] = {"R", "G", "B"};
-const char* const kChannelColor[3] = {"#d62728", "#2ca02c", "#1f77b4"};
+const int kChannelColor[3] = {1, 2, 0};  // palette.h: red, green, blue
 
 // Camera patches, baseline and extended: held-out predicted against measured raw means
 // (`scatter`), or the held-out residual per patch.
@@ -536,7 +537,7 @@ std::vector<Plot> camera_panels(const DiagnoseProblem& p, const Diagnosis& d, bo
       PlotSeries s;
       s.line = false;
       s.markers = true;
-      s.color = kChannelColor[c];
+      s.color = palette_color(kChannelColor[c]);
       if (scatter) s.opacity = 0.7;
       s.label = kChannelName[c];
       for (int i = 0; i < p.num_items(); ++i) {
@@ -562,26 +563,32 @@ std::vector<std::string> write_diagnosis_files(const DiagnoseProblem& p, const D
     write_text(dir / name, text);
     files.push_back((dir / name).string());
   };
+  // A figure as <stem>.svg and <stem>.png.
+  auto figure = [&](const std::string& stem, const VectorPlot& plot) {
+    plot.write_svg_and_png(dir / stem);
+    files.push_back((dir / (stem + ".svg")).string());
+    files.push_back((dir / (stem + ".png")).string());
+  };
   out("report.json", diagnosis_json(p, d, ctx).dump(2) + "\n");
   out("report.txt", diagnosis_text(p, d, ctx));
   out("residuals.csv", residuals_csv(p, d));
 
   const ReportGroups groups = report_groups(p, d);
   const std::string by = d.options.report_by.empty() ? "all" : d.options.report_by;
-  out("heldout_rmse_by_" + slug(by) + ".svg", svg_bars(heldout_rmse_chart(p, d, groups, by), 760, 440));
-  if (auto rows = depth_comparison(p, d); !rows.empty()) out("layered_vs_blood.svg", svg_bars(depth_chart(rows, d.floor.rmse), 760, 440));
-  if (!d.steps.empty()) out("candidates_step1.svg", svg_bars(first_step_chart(p, d), 860, 460));
+  figure("heldout_rmse_by_" + slug(by), bar_chart(heldout_rmse_chart(p, d, groups, by), 760, 440));
+  if (auto rows = depth_comparison(p, d); !rows.empty()) figure("layered_vs_blood", bar_chart(depth_chart(rows, d.floor.rmse), 760, 440));
+  if (!d.steps.empty()) figure("candidates_step1", bar_chart(first_step_chart(p, d), 860, 460));
 
   if (p.kind() == "spectra") {
-    out("heldout_residuals.svg", svg_panels(spectra_residual_panels(p, d, groups, by), 1, 900, 380,
-                                            "held-out residuals (each spectrum predicted by a model fitted without its group)"));
+    figure("heldout_residuals", chart_panels(spectra_residual_panels(p, d, groups, by), 1, 900, 380,
+                                             "held-out residuals (each spectrum predicted by a model fitted without its group)"));
     if (!d.causes.empty())
-      out("cause_signatures.svg", svg_panels(cause_signature_panels(p, d, groups, by), 2, 560, 330,
-                                             "what each accepted cause explains (held-out residual before -> after)"));
-    out("heldout_fits.svg", svg_panels(example_fit_panels(p, d), 2, 560, 330, "measured spectra and held-out predictions"));
+      figure("cause_signatures", chart_panels(cause_signature_panels(p, d, groups, by), 2, 560, 330,
+                                              "what each accepted cause explains (held-out residual before -> after)"));
+    figure("heldout_fits", chart_panels(example_fit_panels(p, d), 2, 560, 330, "measured spectra and held-out predictions"));
   } else {
-    out("heldout_scatter.svg", svg_panels(camera_panels(p, d, true), 2, 520, 460, "camera: predicted vs measured raw means"));
-    out("heldout_residuals.svg", svg_panels(camera_panels(p, d, false), 1, 900, 320, "camera: held-out residuals per patch"));
+    figure("heldout_scatter", chart_panels(camera_panels(p, d, true), 2, 520, 460, "camera: predicted vs measured raw means"));
+    figure("heldout_residuals", chart_panels(camera_panels(p, d, false), 1, 900, 320, "camera: held-out residuals per patch"));
   }
   return files;
 }

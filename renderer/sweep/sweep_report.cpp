@@ -5,7 +5,7 @@
 #include <cstdio>
 #include <sstream>
 
-#include "renderer/analysis/vector_plot.h"
+#include "renderer/plot/vector_plot.h"
 
 #include "renderer/core/error.h"
 #include "renderer/sweep/sweep_metrics.h"
