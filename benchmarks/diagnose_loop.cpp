@@ -41,7 +41,7 @@
 #include "renderer/diagnose/cross_validation.h"
 #include "renderer/diagnose/diagnose_model.h"
 #include "renderer/diagnose/render_loop.h"
-#include "renderer/diagnose/svg_plot.h"
+#include "renderer/plot/charts.h"
 #include "renderer/diagnose/nnls.h"
 
 using namespace ofl;
@@ -409,7 +409,7 @@ int run(int argc, char** argv) {
         PlotSeries m;
         m.x = nm;
         m.y = vec(r.ext[pick].measured);
-        m.color = "#000000";
+        m.color = rgb_hex(0x000000);
         m.width = 2.0;
         m.label = "measured";
         char lb[128], le[128];
@@ -418,13 +418,13 @@ int run(int argc, char** argv) {
         PlotSeries b;
         b.x = nm;
         b.y = vec(r.base[pick].predicted);
-        b.color = "#d62728";
+        b.color = rgb_hex(0xd62728);
         b.dashed = true;
         b.label = lb;
         PlotSeries e;
         e.x = nm;
         e.y = vec(r.ext[pick].predicted);
-        e.color = "#1f77b4";
+        e.color = rgb_hex(0x1f77b4);
         e.width = 1.8;
         e.label = le;
         pl.series = {m, b, e};
@@ -433,8 +433,9 @@ int run(int argc, char** argv) {
       }
     fs::path pp(args.plot);
     if (pp.has_parent_path()) fs::create_directories(pp.parent_path());
-    write_file_atomic(pp, svg_panels(panels, 2, 560, 340,
-                                     "Measured vs rendered flat patch of the baseline and the extended material (held out, same instrument)"));
+    write_file_atomic(pp, chart_panels(panels, 2, 560, 340,
+                                       "Measured vs rendered flat patch of the baseline and the extended material (held out, same instrument)")
+                              .to_svg());
     std::fprintf(stderr, "wrote %s\n", args.plot.c_str());
   }
   out["seconds"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

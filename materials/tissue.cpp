@@ -87,9 +87,10 @@ void set_extra_shares(Material& m, const TissueCorrections& corr, MaterialContex
 
 }  // namespace
 
-Material parse_tissue(const JsonNode& n, MaterialContext& ctx, const std::string& forced_preset) {
-  n.check_keys({"type", "preset", "reflectance", "concentrations", "fluorescence_scale", "textures", "extra_fluorophores",
-                "coating", "blood", "emission_broadening_fwhm_nm", "diagnosis"});
+namespace {
+
+// The preset's file under assets/tissues/; an unknown name lists the presets there.
+std::filesystem::path preset_file(const JsonNode& n, const std::string& forced_preset) {
   std::string preset = forced_preset.empty() ? n.at("preset").string() : n.string_or("preset", forced_preset);
   auto file = asset_root() / "tissues" / (preset + ".json");
   std::error_code ec;
@@ -99,32 +100,33 @@ Material parse_tissue(const JsonNode& n, MaterialContext& ctx, const std::string
       if (e.path().extension() == ".json") have += (have.empty() ? "" : ", ") + e.path().stem().string();
     (forced_preset.empty() ? n.at("preset") : n).fail("no tissue preset \"" + preset + "\" (have: " + have + ")");
   }
-  JsonFile pf = JsonFile::load(file);
-  nlohmann::json mat = pf.root().at("material").raw();  // a copy we edit
-  nlohmann::json& base = mat["base"];
-  auto abs = [](const std::filesystem::path& p) { return std::filesystem::absolute(p).string(); };
-  // Paths inside the preset are relative to the preset; rewrite them so the edited copy can live anywhere.
-  if (base["reflectance"].is_object() && base["reflectance"].contains("file"))
-    base["reflectance"]["file"] = abs(file.parent_path() / base["reflectance"]["file"].get<std::string>());
+  return file;
+}
 
-  // User overrides, validated against the user's own JSON pointer before they are merged.
+std::string absolute_text(const std::filesystem::path& p) { return std::filesystem::absolute(p).string(); }
+
+// The layer of the base material's fluorophore `name`, null when the base has none.
+nlohmann::json* find_layer(nlohmann::json& base, const std::string& name) {
+  for (auto& l : base["fluorophores"])
+    if (l.value("name", "") == name) return &l;
+  return nullptr;
+}
+
+// The user's overrides of the preset's base material, validated against the user's own JSON
+// pointer before they are merged: reflectance, concentrations (their names go into `given`),
+// fluorescence_scale, textures and extra_fluorophores.
+void apply_user_overrides(const JsonNode& n, nlohmann::json& base, std::set<std::string>& given) {
   if (auto r = n.find("reflectance")) {
     nlohmann::json v = r->raw();
-    if (v.is_string()) v = abs(r->existing_file());
-    else if (v.is_object() && v.contains("file")) v["file"] = abs(r->at("file").existing_file());
+    if (v.is_string()) v = absolute_text(r->existing_file());
+    else if (v.is_object() && v.contains("file")) v["file"] = absolute_text(r->at("file").existing_file());
     base["reflectance"] = v;
   }
-  auto find_layer = [&](const std::string& name) -> nlohmann::json* {
-    for (auto& l : base["fluorophores"])
-      if (l.value("name", "") == name) return &l;
-    return nullptr;
-  };
-  std::set<std::string> given;  // fluorophores the user set
   if (auto cs = n.find("concentrations")) {
     for (const auto& k : cs->keys()) {
       given.insert(k);
       double c = cs->at(k).number(0.0, 1.0);
-      if (auto* l = find_layer(k)) (*l)["concentration"] = c;
+      if (auto* l = find_layer(base, k)) (*l)["concentration"] = c;
       else base["fluorophores"].push_back({{"name", k}, {"concentration", c}});
     }
   }
@@ -138,11 +140,12 @@ Material parse_tissue(const JsonNode& n, MaterialContext& ctx, const std::string
       nlohmann::json tex;
       if (t.is_object()) {
         t.check_keys({"file", "offset", "scale"});
-        tex = {{"file", abs(t.at("file").existing_file())}, {"offset", t.number_or("offset", 0.0)}, {"scale", t.number_or("scale", 1.0)}};
+        tex = {{"file", absolute_text(t.at("file").existing_file())}, {"offset", t.number_or("offset", 0.0)},
+               {"scale", t.number_or("scale", 1.0)}};
       } else {
-        tex = abs(t.existing_file());
+        tex = absolute_text(t.existing_file());
       }
-      nlohmann::json* l = find_layer(k);
+      nlohmann::json* l = find_layer(base, k);
       if (!l) t.fail("the preset has no fluorophore \"" + k + "\" (set its concentration in \"concentrations\" first)");
       (*l)["texture"] = tex;
     }
@@ -153,35 +156,75 @@ Material parse_tissue(const JsonNode& n, MaterialContext& ctx, const std::string
       nlohmann::json layer = l.raw();
       // File names are the user's, relative to the user's file.
       for (const char* k : {"eem", "fluorophore"})
-        if (l.has(k)) layer[k] = abs(l.at(k).existing_file());
+        if (l.has(k)) layer[k] = absolute_text(l.at(k).existing_file());
       if (auto t = l.find("texture")) {
-        if (t->is_object()) layer["texture"]["file"] = abs(t->at("file").existing_file());
-        else layer["texture"] = abs(t->existing_file());
+        if (t->is_object()) layer["texture"]["file"] = absolute_text(t->at("file").existing_file());
+        else layer["texture"] = absolute_text(t->existing_file());
       }
       base["fluorophores"].push_back(layer);
     }
   }
-  // A diagnosis report: its extra fluorophores join the layers before parsing (concentration fixed
-  // below, once the EEMs are on the grid).
+}
+
+// A diagnosis report's corrections: its extra fluorophores join the layers before parsing
+// (concentration fixed once the EEMs are on the grid, set_extra_shares). A tissue cause the
+// material cannot render is refused.
+TissueCorrections read_diagnosis(const JsonNode& d, nlohmann::json& base) {
+  auto report_file = d.existing_file();
+  JsonFile rep = JsonFile::load(report_file);
   TissueCorrections corr;
-  if (auto d = n.find("diagnosis")) {
-    auto report_file = d->existing_file();
-    JsonFile rep = JsonFile::load(report_file);
-    try {
-      corr = tissue_corrections_from_report(rep.doc());
-    } catch (const InputError& e) {
-      throw InputError(report_file.string(), e.field(), e.what());
-    }
-    if (!corr.unrendered_tissue_causes.empty())
-      throw InputError(report_file.string(), "/causes",
-                       "cause \"" + corr.unrendered_tissue_causes[0] +
-                           "\" changes the tissue's emission in a way the tissue material has no parameter for; it would be "
-                           "left out of the image (remove it from the report to render the rest)");
-    // A fluorophore the preset or the user already has keeps its layer; its concentration is set
-    // from the reported share below unless "concentrations" names it.
-    for (auto& x : corr.extra_fluorophores)
-      if (!find_layer(x.name)) base["fluorophores"].push_back({{"name", x.name}, {"concentration", 0.0}});
+  try {
+    corr = tissue_corrections_from_report(rep.doc());
+  } catch (const InputError& e) {
+    throw InputError(report_file.string(), e.field(), e.what());
   }
+  if (!corr.unrendered_tissue_causes.empty())
+    throw InputError(report_file.string(), "/causes",
+                     "cause \"" + corr.unrendered_tissue_causes[0] +
+                         "\" changes the tissue's emission in a way the tissue material has no parameter for; it would be "
+                         "left out of the image (remove it from the report to render the rest)");
+  // A fluorophore the preset or the user already has keeps its layer; its concentration is set
+  // from the reported share unless "concentrations" names it.
+  for (auto& x : corr.extra_fluorophores)
+    if (!find_layer(base, x.name)) base["fluorophores"].push_back({{"name", x.name}, {"concentration", 0.0}});
+  return corr;
+}
+
+// Broadens this material's own copies of its EEMs (other materials keep the library's).
+void broaden_own_eems(Material& out, MaterialContext& ctx, double fwhm_nm) {
+  TissueCorrections broaden_only;
+  broaden_only.emission_broadening_fwhm_nm = fwhm_nm;
+  for (auto& f : out.fluorophores) {
+    ctx.eems->push_back(apply_tissue_corrections((*ctx.eems)[f.eem], broaden_only));
+    f.eem = static_cast<int>(ctx.eems->size()) - 1;
+  }
+}
+
+// Blood under the surface: the transmittance out, and in along the longer excitation path.
+void add_blood(Material& out, const BloodAbsorber& blood, const MaterialContext& ctx) {
+  out.layer_out = blood_transmittance(blood, ctx.grid);
+  BloodAbsorber in = blood;
+  in.oxy_uM_cm *= blood.excitation_path_factor;
+  in.deoxy_uM_cm *= blood.excitation_path_factor;
+  out.layer_in = blood_transmittance(in, ctx.grid);
+}
+
+}  // namespace
+
+Material parse_tissue(const JsonNode& n, MaterialContext& ctx, const std::string& forced_preset) {
+  n.check_keys({"type", "preset", "reflectance", "concentrations", "fluorescence_scale", "textures", "extra_fluorophores",
+                "coating", "blood", "emission_broadening_fwhm_nm", "diagnosis"});
+  auto file = preset_file(n, forced_preset);
+  JsonFile pf = JsonFile::load(file);
+  nlohmann::json mat = pf.root().at("material").raw();  // a copy we edit
+  nlohmann::json& base = mat["base"];
+  // Paths inside the preset are relative to the preset; rewrite them so the edited copy can live anywhere.
+  if (base["reflectance"].is_object() && base["reflectance"].contains("file"))
+    base["reflectance"]["file"] = absolute_text(file.parent_path() / base["reflectance"]["file"].get<std::string>());
+  std::set<std::string> given;  // fluorophores the user set
+  apply_user_overrides(n, base, given);
+  TissueCorrections corr;
+  if (auto d = n.find("diagnosis")) corr = read_diagnosis(*d, base);
   if (auto w = n.find("emission_broadening_fwhm_nm")) corr.emission_broadening_fwhm_nm = w->number(0.0, 500.0);
   // The coating last: dropping it replaces `mat` by the base, which `base` refers into.
   if (auto c = n.find("coating")) {
@@ -199,27 +242,11 @@ Material parse_tissue(const JsonNode& n, MaterialContext& ctx, const std::string
   JsonNode m = merged.root();
   std::string type = m.at("type").string();
   Material out = type == "coated" ? parse_coated(m, ctx) : type == "fluorescent" ? parse_fluorescent(m, ctx) : parse_lambertian(m, ctx);
-
-  if (corr.emission_broadening_fwhm_nm > 0) {
-    // Broaden this material's own copies of its EEMs (other materials keep the library's).
-    TissueCorrections broaden_only;
-    broaden_only.emission_broadening_fwhm_nm = corr.emission_broadening_fwhm_nm;
-    for (auto& f : out.fluorophores) {
-      ctx.eems->push_back(apply_tissue_corrections((*ctx.eems)[f.eem], broaden_only));
-      f.eem = static_cast<int>(ctx.eems->size()) - 1;
-    }
-  }
+  if (corr.emission_broadening_fwhm_nm > 0) broaden_own_eems(out, ctx, corr.emission_broadening_fwhm_nm);
   if (!corr.extra_fluorophores.empty()) set_extra_shares(out, corr, ctx, given);
-
   std::optional<BloodAbsorber> blood = corr.blood;
   if (auto b = n.find("blood")) blood = parse_blood(*b);
-  if (blood) {
-    out.layer_out = blood_transmittance(*blood, ctx.grid);
-    BloodAbsorber in = *blood;
-    in.oxy_uM_cm *= blood->excitation_path_factor;
-    in.deoxy_uM_cm *= blood->excitation_path_factor;
-    out.layer_in = blood_transmittance(in, ctx.grid);
-  }
+  if (blood) add_blood(out, *blood, ctx);
   return out;
 }
 

@@ -1,7 +1,7 @@
 // Axis ticks shared by the plot writers: nice steps, tick values and labels, against hand values.
 #include <gtest/gtest.h>
 
-#include "renderer/analysis/plot_axis.h"
+#include "renderer/plot/plot_axis.h"
 
 using namespace ofl;
 

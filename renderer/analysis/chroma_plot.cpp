@@ -1,6 +1,7 @@
 #include "renderer/analysis/chroma_plot.h"
 
-#include "renderer/analysis/plot_axis.h"
+#include "renderer/plot/axis_frame.h"
+#include "renderer/plot/palette.h"
 
 #include <algorithm>
 #include <cmath>
@@ -9,22 +10,12 @@
 namespace ofl {
 namespace {
 
-const unsigned kPalette[] = {0x1f77b4, 0xd62728, 0x2ca02c, 0xff7f0e, 0x9467bd,
-                             0x8c564b, 0xe377c2, 0x17becf, 0xbcbd22, 0x7f7f7f};
-
 struct Box {
   double r0, r1, g0, g1;
 };
 
-// Maps (r, g) into a panel of the image, equal scale on both axes.
-struct Panel {
-  double x, y, w, h;  // pixel rectangle
-  Box box;
-  Point2 map(double r, double g) const {
-    return {x + (r - box.r0) / (box.r1 - box.r0) * w, y + h - (g - box.g0) / (box.g1 - box.g0) * h};
-  }
-  ClipRect clip() const { return {x, y, x + w, y + h}; }
-};
+// Maps (r, g) into a panel of the image, equal scale on both axes (x: r, y: g).
+AxisFrame panel(double x, double y, double w, double h, const Box& b) { return {x, y, w, h, b.r0, b.r1, b.g0, b.g1}; }
 
 // Grows `b` to the aspect ratio of a w x h panel around its centre, with a margin.
 Box fit_box(Box b, double w, double h, double margin) {
@@ -37,47 +28,29 @@ Box fit_box(Box b, double w, double h, double margin) {
   return {cr - dr / 2, cr + dr / 2, cg - dg / 2, cg + dg / 2};
 }
 
-void draw_axes(VectorPlot& p, const Panel& pn, const std::string& title) {
-  Rgba grid = rgb_hex(0xdddddd), axis = rgb_hex(0x333333), label = rgb_hex(0x222222);
-  double step = nice_tick_step(std::max(pn.box.r1 - pn.box.r0, pn.box.g1 - pn.box.g0), 6);
-  for (double r : axis_ticks(pn.box.r0, pn.box.r1, step)) {
-    auto a = pn.map(r, pn.box.g0), b = pn.map(r, pn.box.g1);
-    p.polyline({a, b}, grid, 1);
-    p.text({a[0], a[1] + 16}, tick_label(r, step), 12, label, TextAnchor::kMiddle);
-  }
-  for (double g : axis_ticks(pn.box.g0, pn.box.g1, step)) {
-    auto a = pn.map(pn.box.r0, g), b = pn.map(pn.box.r1, g);
-    p.polyline({a, b}, grid, 1);
-    p.text({a[0] - 6, a[1] + 4}, tick_label(g, step), 12, label, TextAnchor::kEnd);
-  }
+void draw_axes(VectorPlot& p, const AxisFrame& pn, const std::string& title) {
+  Rgba axis = rgb_hex(0x333333), label = rgb_hex(0x222222);
+  AxisTicks t;
+  t.shared_step = true;
+  t.grid = rgb_hex(0xdddddd);
+  draw_axis_ticks(p, pn, t);
   // r + g = 1 (no blue) bounds the possible chromaticities.
   p.clip(pn.clip());
   p.polyline({pn.map(-1, 2), pn.map(2, -1)}, rgb_hex(0x999999), 1, true);
   p.clip({});
-  p.rect(pn.x, pn.y, pn.w, pn.h, {0, 0, 0, 0}, axis, 1.2);
+  draw_frame_outline(p, pn, axis, 1.2);
   p.text({pn.x + pn.w / 2, pn.y + pn.h + 36}, "r = R / (R + G + B)", 14, label, TextAnchor::kMiddle);
   p.text({pn.x - 48, pn.y - 10}, "g = G / (R + G + B)", 14, label, TextAnchor::kStart);
   p.text({pn.x + pn.w / 2, pn.y - 10}, title, 15, label, TextAnchor::kMiddle);
 }
 
-std::vector<Point2> ellipse_points(const Panel& pn, const Ellipse& e) {
-  std::vector<Point2> pts;
-  for (int k = 0; k <= 96; ++k) {
-    double t = 2 * 3.14159265358979323846 * k / 96;
-    double u = e.a * std::cos(t), v = e.b * std::sin(t);
-    double r = e.cx + u * std::cos(e.angle_rad) - v * std::sin(e.angle_rad);
-    double g = e.cy + u * std::sin(e.angle_rad) + v * std::cos(e.angle_rad);
-    pts.push_back(pn.map(r, g));
-  }
-  return pts;
-}
-
-void draw_points(VectorPlot& p, const Panel& pn, const ChromaStats& s, double radius, size_t max_points) {
+void draw_points(VectorPlot& p, const AxisFrame& pn, const ChromaStats& s, double radius, size_t max_points) {
   p.clip(pn.clip());
   size_t stride = std::max<size_t>(1, s.rg.size() / max_points);
   for (size_t i = 0; i < s.rg.size(); i += stride)
     p.circle(pn.map(s.rg[i][0], s.rg[i][1]), radius, rgb_hex(0x555555, 0.35f));
-  if (s.used > 1) p.polygon(ellipse_points(pn, s.ellipse95), {0, 0, 0, 0}, rgb_hex(0x000000), 2.0);
+  if (s.used > 1) p.polygon(ellipse_outline(pn, s.ellipse95.cx, s.ellipse95.cy, s.ellipse95.a, s.ellipse95.b, s.ellipse95.angle_rad, 96), {0, 0, 0, 0},
+                             rgb_hex(0x000000), 2.0);
   if (s.used > 0) {
     auto m = pn.map(s.mean_r, s.mean_g);
     p.polyline({{m[0] - 7, m[1]}, {m[0] + 7, m[1]}}, rgb_hex(0x000000), 2.2);
@@ -86,7 +59,7 @@ void draw_points(VectorPlot& p, const Panel& pn, const ChromaStats& s, double ra
   p.clip({});
 }
 
-void draw_lines(VectorPlot& p, const Panel& pn, const std::vector<ReferenceLine>& lines, bool labels) {
+void draw_lines(VectorPlot& p, const AxisFrame& pn, const std::vector<ReferenceLine>& lines, bool labels) {
   p.clip(pn.clip());
   struct Label {
     Point2 end, at;
@@ -97,7 +70,7 @@ void draw_lines(VectorPlot& p, const Panel& pn, const std::vector<ReferenceLine>
   for (size_t i = 0; i < lines.size(); ++i) {
     const auto& l = lines[i];
     if (!l.visible) continue;
-    Rgba c = rgb_hex(kPalette[i % 10]);
+    Rgba c = palette_color(static_cast<int>(i));
     std::vector<Point2> pts;
     for (auto& rg : l.rg) pts.push_back(pn.map(rg[0], rg[1]));
     p.polyline(pts, c, 2.0);
@@ -161,8 +134,8 @@ VectorPlot make_chroma_plot(const ChromaPlotData& d, int width, int height) {
   }
   if (all.r0 > all.r1) all = {0, 1, 0, 1};
   if (roi.r0 > roi.r1) roi = all;
-  Panel overview{left, top, pw, ph, fit_box(all, pw, ph, 0.08)};
-  Panel zoom{left + pw + gap, top, pw, ph, fit_box(roi, pw, ph, 0.15)};
+  AxisFrame overview = panel(left, top, pw, ph, fit_box(all, pw, ph, 0.08));
+  AxisFrame zoom = panel(left + pw + gap, top, pw, ph, fit_box(roi, pw, ph, 0.15));
 
   p.text({left, 28}, d.title, 17, rgb_hex(0x000000));
   p.text({left, 50}, d.subtitle, 13, rgb_hex(0x333333));
@@ -173,7 +146,7 @@ VectorPlot make_chroma_plot(const ChromaPlotData& d, int width, int height) {
   draw_lines(p, zoom, d.lines, false);
   draw_points(p, zoom, s, 1.8, 6000);
   // Zoom window outline on the overview.
-  auto a = overview.map(zoom.box.r0, zoom.box.g0), b = overview.map(zoom.box.r1, zoom.box.g1);
+  auto a = overview.map(zoom.x0, zoom.y0), b = overview.map(zoom.x1, zoom.y1);
   p.clip(overview.clip());
   p.rect(a[0], b[1], b[0] - a[0], a[1] - b[1], {0, 0, 0, 0}, rgb_hex(0x444444), 1.0);
   p.clip({});
@@ -193,7 +166,7 @@ VectorPlot make_chroma_plot(const ChromaPlotData& d, int width, int height) {
   for (size_t i = 0; i < d.lines.size(); ++i) {
     if (!d.lines[i].visible) continue;
     yy += 18;
-    Rgba c = rgb_hex(kPalette[i % 10]);
+    Rgba c = palette_color(static_cast<int>(i));
     p.polyline({{lx + 8, yy - 4}, {lx + 22, yy - 4}}, c, 2.5);
     p.text({lx + 28, yy}, d.lines[i].fluorophore, 12, c);
   }
@@ -201,12 +174,7 @@ VectorPlot make_chroma_plot(const ChromaPlotData& d, int width, int height) {
 }
 
 bool write_chroma_plot(const ChromaPlotData& d, const std::filesystem::path& stem) {
-  VectorPlot p = make_chroma_plot(d);
-  auto svg = stem, png = stem;
-  svg += ".svg";
-  png += ".png";
-  p.write_svg(svg);
-  return p.write_png(png);
+  return make_chroma_plot(d).write_svg_and_png(stem);
 }
 
 }  // namespace ofl

@@ -11,7 +11,7 @@
 
 #include "renderer/analysis/chroma_reference.h"
 #include "renderer/analysis/chromaticity.h"
-#include "renderer/analysis/vector_plot.h"
+#include "renderer/plot/vector_plot.h"
 
 namespace ofl {
 

@@ -134,57 +134,30 @@ ExposureChoice choose_exposure(const SpectralImage& img, const CameraDescription
   return c;
 }
 
-}  // namespace
-
-CameraRun simulate_camera(const SpectralImage& radiance, const CameraDescription& cam_in, const CameraRunOptions& opt,
-                          const std::string& radiance_file) {
-  CameraRun run;
-  run.camera = cam_in;
-  const CameraDescription& cam = run.camera;
-  const SensorDescription& s = cam.sensor;
-  // With an "optics" section the sensor sees the optical image (PSF, own grid), else the radiance itself.
-  OpticalImage optical;
-  if (cam.optics.enabled) {
-    optical = form_optical_image(radiance, cam, radiance_file);
-    run.warnings.insert(run.warnings.end(), optical.warnings.begin(), optical.warnings.end());
-  }
-  const SpectralImage& img = cam.optics.enabled ? optical.image : radiance;
-  auto lo = img.band_lo(), hi = img.band_hi();
-  run.geometry = make_field_geometry(cam.lens, s, img.width, img.height,
-                                     cam.optics.enabled ? std::nullopt : render_vfov_deg(img, &run.warnings),
-                                     &run.warnings);
-  run.geometry.axis_x_px = optical.axis_x_px;
-  run.geometry.axis_y_px = optical.axis_y_px;
-  if (cam.lens.sensor_cra_deg >= 0) {  // the CRA is given at the farthest corner, which the axis offset moves
-    double rmax = run.geometry.max_radius_px();
-    run.geometry.sensor_tan_per_px = rmax > 0 ? std::tan(cam.lens.sensor_cra_deg * kPi / 180.0) / rmax : 0.0;
-  }
-  if (run.geometry.source == FieldGeometry::Source::kNone && cam.filters.any_interference() && cam.lens.sensor_cra_deg < 0)
-    run.warnings.push_back("interference filters are evaluated at normal incidence everywhere (no field angles)");
-  if (auto u = img.attributes.find("emissiveUnits"); u != img.attributes.end() && u->second != "W.m^-2.sr^-1")
-    run.warnings.push_back("the EXR's emissiveUnits are \"" + u->second +
-                           "\", not W.m^-2.sr^-1: electron counts assume W sr^-1 m^-2 nm^-1");
-  std::vector<std::string> lost = lost_light_warnings(img, cam, &run.warnings);
-  if (opt.strict_bands && !lost.empty()) throw InputError(radiance_file, "bands", lost.front() + " (--strict)");
-  run.warnings.insert(run.warnings.end(), lost.begin(), lost.end());
+// The exposure (fixed or automatic) and the expected electrons at it: automatic exposure has
+// evaluated the image already, and electrons scale with the exposure.
+void expose(const SpectralImage& img, const CameraRunOptions& opt, CameraRun& run) {
   double start_s = 0;
-  run.exposure = choose_exposure(img, cam, run.geometry, opt, &run.warnings, &run.expected, &start_s);
+  run.exposure = choose_exposure(img, run.camera, run.geometry, opt, &run.warnings, &run.expected, &start_s);
   run.camera.sensor.exposure_s = run.exposure.exposure_s;
-  if (start_s > 0) {  // auto exposure evaluated the image already: electrons scale with the exposure
+  if (start_s > 0) {
     const double k = run.exposure.exposure_s / start_s;
     for (float& e : run.expected.channel_e) e = static_cast<float>(e * k);
     for (float& e : run.expected.mosaic_e) e = static_cast<float>(e * k);
     run.expected.dark_e *= k;
   } else {
-    run.expected = expected_electrons(img, cam, run.geometry);
+    run.expected = expected_electrons(img, run.camera, run.geometry);
   }
-  throw_if_interrupted("simulating the camera (this exposure's files were not written)");
-  bool noise = opt.noise.value_or(cam.noise);
-  uint64_t seed = opt.seed.value_or(cam.seed);
-  FixedPattern fixed = noise ? make_fixed_pattern(s, img.width, img.height) : FixedPattern{};
-  run.raw = simulate_raw(run.expected.mosaic_e, img.width, img.height, s, noise, seed, fixed);
+}
 
-  RawMetadata& m = run.meta;
+// What raw.json records: the sensor's levels and gains, the lens, the camera and radiance it came
+// from, the EXR's oralfluor attributes and the field geometry.
+RawMetadata raw_metadata(const CameraRun& run, const SpectralImage& radiance, const SpectralImage& img,
+                         const OpticalImage& optical, bool noise, uint64_t seed, const std::string& radiance_file) {
+  const CameraDescription& cam = run.camera;
+  const SensorDescription& s = cam.sensor;
+  auto lo = img.band_lo(), hi = img.band_hi();
+  RawMetadata m;
   m.width = img.width;
   m.height = img.height;
   m.cfa = s.cfa;
@@ -212,51 +185,113 @@ CameraRun simulate_camera(const SpectralImage& radiance, const CameraDescription
   m.extra["exr_attributes"] = attrs;
   m.extra["field_geometry"] = run.geometry.to_json();
   if (cam.optics.enabled) m.extra["optics"] = optical.info;
+  return m;
+}
 
-  // Summary: per CFA channel, expected electrons (photo + dark) and raw means.
+// Per CFA channel: pixels, mean expected electrons (photo + dark), raw means and the saturated
+// share; `saturated` gets the count over all channels.
+nlohmann::json channel_summary(const CameraRun& run, int width, int height, size_t* saturated) {
   nlohmann::json channels = nlohmann::json::object();
   double sums[3][3] = {{0}};  // [channel][expected e, dn, saturated]
   size_t counts[3] = {0, 0, 0};
-  for (int y = 0; y < img.height; ++y)
-    for (int x = 0; x < img.width; ++x) {
-      size_t i = static_cast<size_t>(y) * img.width + x;
-      int c = cfa_channel(s.cfa, x, y);
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x) {
+      size_t i = static_cast<size_t>(y) * width + x;
+      int c = cfa_channel(run.meta.cfa, x, y);
       sums[c][0] += run.expected.mosaic_e[i] + run.expected.dark_e;
       sums[c][1] += run.raw.dn[i];
-      sums[c][2] += run.raw.dn[i] >= m.white_level_dn;
+      sums[c][2] += run.raw.dn[i] >= run.meta.white_level_dn;
       ++counts[c];
     }
-  size_t saturated = 0;
+  *saturated = 0;
   for (int c = 0; c < 3; ++c) {
     double n = std::max<size_t>(counts[c], 1);
     channels[channel_name(c)] = {{"pixels", counts[c]},
                                  {"mean_expected_electrons", sums[c][0] / n},
                                  {"mean_dn", sums[c][1] / n},
-                                 {"mean_dn_above_black", sums[c][1] / n - m.black_level_dn},
+                                 {"mean_dn_above_black", sums[c][1] / n - run.meta.black_level_dn},
                                  {"saturated_fraction", sums[c][2] / n}};
-    saturated += static_cast<size_t>(sums[c][2]);
+    *saturated += static_cast<size_t>(sums[c][2]);
   }
-  double npx = static_cast<double>(img.width) * img.height;
-  run.summary = {{"camera", cam.name},
-                 {"radiance", radiance_file},
-                 {"width", img.width},
-                 {"height", img.height},
-                 {"cfa_pattern", cfa_name(s.cfa)},
-                 {"noise", noise},
-                 {"seed", seed},
-                 {"exposure_s", s.exposure_s},
-                 {"exposure", run.exposure.how},
-                 {"total_gain_dn_per_e", s.total_gain()},
-                 {"black_level_dn", m.black_level_dn},
-                 {"white_level_dn", m.white_level_dn},
-                 {"dark_electrons", run.expected.dark_e},
-                 {"channels", channels},
-                 {"saturated_fraction", saturated / npx},
-                 {"full_well_clipped_fraction", run.raw.full_well_clipped / npx},
-                 {"adc_clipped_fraction", run.raw.adc_clipped / npx},
-                 {"field_geometry", run.geometry.to_json()},
-                 {"warnings", run.warnings}};
-  if (cam.optics.enabled) run.summary["optics"] = optical.info;
+  return channels;
+}
+
+// The run's summary (printed by `oralfluor camera --json` and kept in a sweep point's result).
+nlohmann::json camera_summary(const CameraRun& run, const OpticalImage& optical, const std::string& radiance_file) {
+  const CameraDescription& cam = run.camera;
+  const SensorDescription& s = cam.sensor;
+  const RawMetadata& m = run.meta;
+  size_t saturated = 0;
+  nlohmann::json channels = channel_summary(run, m.width, m.height, &saturated);
+  double npx = static_cast<double>(m.width) * m.height;
+  nlohmann::json summary = {{"camera", cam.name},
+                            {"radiance", radiance_file},
+                            {"width", m.width},
+                            {"height", m.height},
+                            {"cfa_pattern", cfa_name(s.cfa)},
+                            {"noise", m.noise},
+                            {"seed", m.seed},
+                            {"exposure_s", s.exposure_s},
+                            {"exposure", run.exposure.how},
+                            {"total_gain_dn_per_e", s.total_gain()},
+                            {"black_level_dn", m.black_level_dn},
+                            {"white_level_dn", m.white_level_dn},
+                            {"dark_electrons", run.expected.dark_e},
+                            {"channels", channels},
+                            {"saturated_fraction", saturated / npx},
+                            {"full_well_clipped_fraction", run.raw.full_well_clipped / npx},
+                            {"adc_clipped_fraction", run.raw.adc_clipped / npx},
+                            {"field_geometry", run.geometry.to_json()},
+                            {"warnings", run.warnings}};
+  if (cam.optics.enabled) summary["optics"] = optical.info;
+  return summary;
+}
+
+}  // namespace
+
+FieldGeometry sensor_field_geometry(const SpectralImage& img, const CameraDescription& cam, double axis_x_px, double axis_y_px,
+                                    std::vector<std::string>* warnings) {
+  FieldGeometry g = make_field_geometry(cam.lens, cam.sensor, img.width, img.height,
+                                        cam.optics.enabled ? std::nullopt : render_vfov_deg(img, warnings), warnings);
+  g.axis_x_px = axis_x_px;
+  g.axis_y_px = axis_y_px;
+  if (cam.lens.sensor_cra_deg >= 0) {  // the CRA is given at the farthest corner, which the axis offset moves
+    double rmax = g.max_radius_px();
+    g.sensor_tan_per_px = rmax > 0 ? std::tan(cam.lens.sensor_cra_deg * kPi / 180.0) / rmax : 0.0;
+  }
+  return g;
+}
+
+CameraRun simulate_camera(const SpectralImage& radiance, const CameraDescription& cam_in, const CameraRunOptions& opt,
+                          const std::string& radiance_file) {
+  CameraRun run;
+  run.camera = cam_in;
+  const CameraDescription& cam = run.camera;
+  // With an "optics" section the sensor sees the optical image (PSF, own grid), else the radiance itself.
+  OpticalImage optical;
+  if (cam.optics.enabled) {
+    optical = form_optical_image(radiance, cam, radiance_file);
+    run.warnings.insert(run.warnings.end(), optical.warnings.begin(), optical.warnings.end());
+  }
+  const SpectralImage& img = cam.optics.enabled ? optical.image : radiance;
+  run.geometry = sensor_field_geometry(img, cam, optical.axis_x_px, optical.axis_y_px, &run.warnings);
+  if (run.geometry.source == FieldGeometry::Source::kNone && cam.filters.any_interference() && cam.lens.sensor_cra_deg < 0)
+    run.warnings.push_back("interference filters are evaluated at normal incidence everywhere (no field angles)");
+  if (auto u = img.attributes.find("emissiveUnits"); u != img.attributes.end() && u->second != "W.m^-2.sr^-1")
+    run.warnings.push_back("the EXR's emissiveUnits are \"" + u->second +
+                           "\", not W.m^-2.sr^-1: electron counts assume W sr^-1 m^-2 nm^-1");
+  std::vector<std::string> lost = lost_light_warnings(img, cam, &run.warnings);
+  if (opt.strict_bands && !lost.empty()) throw InputError(radiance_file, "bands", lost.front() + " (--strict)");
+  run.warnings.insert(run.warnings.end(), lost.begin(), lost.end());
+  expose(img, opt, run);
+  throw_if_interrupted("simulating the camera (this exposure's files were not written)");
+  bool noise = opt.noise.value_or(cam.noise);
+  uint64_t seed = opt.seed.value_or(cam.seed);
+  const SensorDescription& s = cam.sensor;
+  FixedPattern fixed = noise ? make_fixed_pattern(s, img.width, img.height) : FixedPattern{};
+  run.raw = simulate_raw(run.expected.mosaic_e, img.width, img.height, s, noise, seed, fixed);
+  run.meta = raw_metadata(run, radiance, img, optical, noise, seed, radiance_file);
+  run.summary = camera_summary(run, optical, radiance_file);
   return run;
 }
 

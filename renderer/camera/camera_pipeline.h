@@ -68,6 +68,13 @@ std::optional<double> render_vfov_deg(const SpectralImage& radiance, std::vector
 std::vector<std::string> lost_light_warnings(const SpectralImage& radiance, const CameraDescription& cam,
                                              std::vector<std::string>* notes);
 
+// The field geometry of the image the sensor sees (the radiance, or the optical image when the
+// camera has an "optics" section): field and sensor angles per pixel, with the optical axis at the
+// offset the optics stage reports (0, 0 without it) and the sensor's chief-ray angle given at the
+// farthest corner. simulate_camera and the ISETCam optical-image export use it alike.
+FieldGeometry sensor_field_geometry(const SpectralImage& img, const CameraDescription& cam, double axis_x_px, double axis_y_px,
+                                    std::vector<std::string>* warnings);
+
 CameraRun simulate_camera(const SpectralImage& radiance, const CameraDescription& cam, const CameraRunOptions& opt,
                           const std::string& radiance_file);
 

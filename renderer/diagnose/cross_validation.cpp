@@ -651,22 +651,19 @@ bool is_mismatch(const LackOfFit& l, const SelectionOptions& o) {
 // likely a slightly wrong instrument or library description as tissue.
 bool nearly_fits(const LackOfFit& l, const SelectionOptions& o) { return l.ratio < o.mismatch_max_lack_of_fit; }
 
-}  // namespace
+// Refuses data that give fewer than two cross-validation groups.
+void require_two_folds(const Folds& folds, const SelectionOptions& o) {
+  if (folds.count() >= 2) return;
+  std::string cols;
+  for (auto& c : o.group_columns) cols += (cols.empty() ? "" : ",") + c;
+  throw InputError("groups", cols.empty() ? "(none)" : cols,
+                   "cross-validation needs at least two groups, the data have one (" +
+                       (folds.names.empty() ? std::string("no items") : folds.names[0]) + ")");
+}
 
-Diagnosis diagnose(const DiagnoseProblem& p, const SelectionOptions& o) {
-  Diagnosis dg;
-  dg.options = o;
-  dg.folds = make_folds(p, o.group_columns);
-  if (dg.folds.count() < 2) {
-    std::string cols;
-    for (auto& c : o.group_columns) cols += (cols.empty() ? "" : ",") + c;
-    throw InputError("groups", cols.empty() ? "(none)" : cols,
-                     "cross-validation needs at least two groups, the data have one (" +
-                         (dg.folds.names.empty() ? std::string("no items") : dg.folds.names[0]) + ")");
-  }
-  auto all = all_items(p);
-  const int G = dg.folds.count();
-
+// The baseline: its full-data fit, the noise floor (from replicates, else the baseline residual),
+// its lack of fit, and its cross-validation.
+void fit_baseline(const DiagnoseProblem& p, const SelectionOptions& o, const std::vector<int>& all, Diagnosis& dg) {
   ModelState base = baseline_state(p);
   dg.baseline_fit = fit_global(p, base, all);
   dg.floor = estimate_noise_floor(p, o.replicate_columns, p.evaluate(dg.baseline_fit.state, all));
@@ -675,103 +672,131 @@ Diagnosis diagnose(const DiagnoseProblem& p, const SelectionOptions& o) {
     dg.floor.rmse = std::sqrt(dg.floor.variance);
     dg.floor.source = "baseline residual (no replicates and no other noise estimate; conservative)";
   }
-  {
-    LackOfFit l = lack_of_fit(p, dg.baseline_fit, dg.floor);
-    dg.baseline_lack_of_fit = l.ratio;
-    dg.common_shape_share = l.common_share;
-    dg.common_shape_nm = l.nm;
-    dg.common_shape = l.shape;
-    dg.instrument_mismatch = is_mismatch(l, o);
-  }
-  std::vector<ModelState> starts(G, base);
+  LackOfFit l = lack_of_fit(p, dg.baseline_fit, dg.floor);
+  dg.baseline_lack_of_fit = l.ratio;
+  dg.common_shape_share = l.common_share;
+  dg.common_shape_nm = l.nm;
+  dg.common_shape = l.shape;
+  dg.instrument_mismatch = is_mismatch(l, o);
+  std::vector<ModelState> starts(dg.folds.count(), base);
   dg.baseline_cv = cross_validate(p, starts, -1, dg.folds, o.parallel, GlobalFitOptions{});
+}
 
-  CvRun current = dg.baseline_cv;
-  GlobalFit full = dg.baseline_fit;
-  std::vector<CandidateTrial> solo;
-  const int C = static_cast<int>(p.candidates().size());
-  for (int step = 1; step <= o.max_causes; ++step) {
-    throw_if_interrupted("diagnosing (looking for causes); no report was written");
-    std::vector<int> todo;
-    for (int c = 0; c < C; ++c)
-      if (!full.state.has(c) && requirement_met(p, full.state, c)) todo.push_back(c);
-    if (todo.empty()) break;
-    // Once the model in hand nearly fits and what it misses is one shape shared by every item,
-    // tissue causes must exceed the noise floor (SelectionOptions: instrument mismatch).
-    NoiseFloor floor = dg.floor;
-    floor.instrument_mismatch = nearly_fits(lack_of_fit(p, full, dg.floor), o);
-    std::vector<CvRun> runs(todo.size());
-    ProgressBar bar("diagnose: cause " + std::to_string(step) + ", candidates", static_cast<int64_t>(todo.size()));
-    std::atomic<int64_t> tried{0};
-    std::atomic<bool> stop{false};  // SelectionOptions::progress said stop
-    auto run_one = [&](size_t k) {
-      if (stop || interrupt_requested()) return;  // the step ends at the check after the candidates
-      std::vector<ModelState> st;
-      for (int g = 0; g < G; ++g) st.push_back(with_cause(p, current.fold_states[g], todo[k]));
-      runs[k] = cross_validate(p, st, static_cast<int>(st[0].causes.size()) - 1, dg.folds, false);
-      bar.advance();
-      if (o.progress && !o.progress(step, ++tried, static_cast<int64_t>(todo.size()))) stop = true;
-    };
-    if (o.parallel)
-      tbb::parallel_for(size_t(0), todo.size(), run_one);
-    else
-      for (size_t k = 0; k < todo.size(); ++k) run_one(k);
-    if (stop) throw Interrupted("diagnose stopped by its progress callback");
-    throw_if_interrupted("diagnosing (looking for causes); no report was written");
-    std::vector<CandidateTrial> trials;
-    for (size_t k = 0; k < todo.size(); ++k) trials.push_back(judge(p, todo[k], current, std::move(runs[k]), dg.folds, floor, o));
-    if (step == 1) solo = trials;
-    // Only while nothing is named yet: after a cause is in, a leftover below the floor is as likely
-    // the imperfect shape of that cause (a skewed band fitted by the log-normal one drew in
-    // bacterial porphyrin in 1 of 10 independent runs when this applied at every step).
-    if (full.state.causes.empty()) accept_unlike_any_instrument(p, trials, o.z);
-    prefer_single_width(p, trials, o.z);
-    reject_dominated_global_broadening(p, trials);
-    const CandidateTrial* aside = hold_to_set_aside(p, trials, o.z);
-    if (aside) dg.set_aside.push_back(describe_set_aside(p, *aside, step));
-    int best = -1;
-    for (size_t k = 0; k < trials.size(); ++k)
-      if (trials[k].accepted &&
-          (best < 0 || trials[k].mean_gain - trials[k].optimism > trials[best].mean_gain - trials[best].optimism))
-        best = static_cast<int>(k);
-    if (aside && best >= 0) dg.set_aside.back().instead = p.candidates()[trials[best].candidate].id;
-    dg.steps.push_back(trials);
-    if (best < 0) break;
-    CandidateTrial& t = dg.steps.back()[best];
-    CauseResult cr;
-    cr.candidate = t.candidate;
-    cr.step = step;
-    cr.trial = t;
-    if (const CandidateTrial* s = solo_trial(solo, t.candidate)) cr.solo = *s;
-    if (!o.report_by.empty()) {
-      cr.by_report = breakdown(p, current, t.cv, o.report_by, nullptr);
-      if (cr.solo.candidate >= 0) cr.solo_by_report = breakdown(p, dg.baseline_cv, cr.solo.cv, o.report_by, nullptr);
-    }
-    ModelState next = with_cause(p, full.state, t.candidate);
-    full = fit_global(p, next, all, static_cast<int>(next.causes.size()) - 1);
-    current = t.cv;
-    dg.causes.push_back(std::move(cr));
+// Cross-validates each candidate in `todo` added to the current fold states (in parallel when
+// allowed), with a progress bar; stops on SIGINT or when SelectionOptions::progress says so.
+std::vector<CvRun> cross_validate_candidates(const DiagnoseProblem& p, const SelectionOptions& o, const Folds& folds,
+                                             const CvRun& current, const std::vector<int>& todo, int step) {
+  std::vector<CvRun> runs(todo.size());
+  ProgressBar bar("diagnose: cause " + std::to_string(step) + ", candidates", static_cast<int64_t>(todo.size()));
+  std::atomic<int64_t> tried{0};
+  std::atomic<bool> stop{false};  // SelectionOptions::progress said stop
+  auto run_one = [&](size_t k) {
+    if (stop || interrupt_requested()) return;  // the step ends at the check after the candidates
+    std::vector<ModelState> st;
+    for (int g = 0; g < folds.count(); ++g) st.push_back(with_cause(p, current.fold_states[g], todo[k]));
+    runs[k] = cross_validate(p, st, static_cast<int>(st[0].causes.size()) - 1, folds, false);
+    bar.advance();
+    if (o.progress && !o.progress(step, ++tried, static_cast<int64_t>(todo.size()))) stop = true;
+  };
+  if (o.parallel)
+    tbb::parallel_for(size_t(0), todo.size(), run_one);
+  else
+    for (size_t k = 0; k < todo.size(); ++k) run_one(k);
+  if (stop) throw Interrupted("diagnose stopped by its progress callback");
+  throw_if_interrupted("diagnosing (looking for causes); no report was written");
+  return runs;
+}
+
+// The accepted trial with the largest optimism-corrected gain, -1 for none.
+int best_accepted(const std::vector<CandidateTrial>& trials) {
+  int best = -1;
+  for (size_t k = 0; k < trials.size(); ++k)
+    if (trials[k].accepted &&
+        (best < 0 || trials[k].mean_gain - trials[k].optimism > trials[best].mean_gain - trials[best].optimism))
+      best = static_cast<int>(k);
+  return best;
+}
+
+// Where forward selection stands between steps.
+struct SelectionState {
+  CvRun current;                    // cross-validation of the model in hand
+  GlobalFit full;                   // its full-data fit
+  std::vector<CandidateTrial> solo;  // step 1's trials: each candidate alone on the baseline
+};
+
+// One step of forward selection: tries every candidate not yet in the model whose requirement is
+// met, judges them, applies the selection rules and adds the best accepted one. Returns false when
+// the selection ends (nothing left to try or nothing accepted).
+bool selection_step(const DiagnoseProblem& p, const SelectionOptions& o, const std::vector<int>& all, int step,
+                    SelectionState& s, Diagnosis& dg) {
+  throw_if_interrupted("diagnosing (looking for causes); no report was written");
+  std::vector<int> todo;
+  for (int c = 0; c < static_cast<int>(p.candidates().size()); ++c)
+    if (!s.full.state.has(c) && requirement_met(p, s.full.state, c)) todo.push_back(c);
+  if (todo.empty()) return false;
+  // Once the model in hand nearly fits and what it misses is one shape shared by every item,
+  // tissue causes must exceed the noise floor (SelectionOptions: instrument mismatch).
+  NoiseFloor floor = dg.floor;
+  floor.instrument_mismatch = nearly_fits(lack_of_fit(p, s.full, dg.floor), o);
+  std::vector<CvRun> runs = cross_validate_candidates(p, o, dg.folds, s.current, todo, step);
+  std::vector<CandidateTrial> trials;
+  for (size_t k = 0; k < todo.size(); ++k) trials.push_back(judge(p, todo[k], s.current, std::move(runs[k]), dg.folds, floor, o));
+  if (step == 1) s.solo = trials;
+  // Only while nothing is named yet: after a cause is in, a leftover below the floor is as likely
+  // the imperfect shape of that cause (a skewed band fitted by the log-normal one drew in
+  // bacterial porphyrin in 1 of 10 independent runs when this applied at every step).
+  if (s.full.state.causes.empty()) accept_unlike_any_instrument(p, trials, o.z);
+  prefer_single_width(p, trials, o.z);
+  reject_dominated_global_broadening(p, trials);
+  const CandidateTrial* aside = hold_to_set_aside(p, trials, o.z);
+  if (aside) dg.set_aside.push_back(describe_set_aside(p, *aside, step));
+  int best = best_accepted(trials);
+  if (aside && best >= 0) dg.set_aside.back().instead = p.candidates()[trials[best].candidate].id;
+  dg.steps.push_back(trials);
+  if (best < 0) return false;
+  CandidateTrial& t = dg.steps.back()[best];
+  CauseResult cr;
+  cr.candidate = t.candidate;
+  cr.step = step;
+  cr.trial = t;
+  if (const CandidateTrial* solo = solo_trial(s.solo, t.candidate)) cr.solo = *solo;
+  if (!o.report_by.empty()) {
+    cr.by_report = breakdown(p, s.current, t.cv, o.report_by, nullptr);
+    if (cr.solo.candidate >= 0) cr.solo_by_report = breakdown(p, dg.baseline_cv, cr.solo.cv, o.report_by, nullptr);
   }
-  dg.final_fit = full;
-  dg.final_cv = current;
+  ModelState next = with_cause(p, s.full.state, t.candidate);
+  s.full = fit_global(p, next, all, static_cast<int>(next.causes.size()) - 1);
+  s.current = t.cv;
+  dg.causes.push_back(std::move(cr));
+  return true;
+}
 
-  // Parameters and their uncertainty: the full-data fit, with the larger of the group jackknife
-  // (spread of the leave-one-group-out fits) and the curvature error inflated for correlated
-  // residuals.
+// Spread of the leave-one-group-out fits of every flattened parameter (group jackknife); zeros
+// when no cause was accepted.
+std::vector<double> group_jackknife(const Diagnosis& dg, const GlobalFit& full, const CvRun& current) {
+  const int G = dg.folds.count();
   std::vector<double> x = flatten(full.state);
   std::vector<double> jack(x.size(), 0.0);
-  if (!dg.causes.empty()) {
-    std::vector<std::vector<double>> fx;
-    for (auto& s : current.fold_states) fx.push_back(flatten(s));
-    for (size_t j = 0; j < x.size(); ++j) {
-      double m = 0;
-      for (auto& v : fx) m += v[j];
-      m /= G;
-      double s = 0;
-      for (auto& v : fx) s += (v[j] - m) * (v[j] - m);
-      jack[j] = std::sqrt((G - 1.0) / G * s);
-    }
+  if (dg.causes.empty()) return jack;
+  std::vector<std::vector<double>> fx;
+  for (auto& s : current.fold_states) fx.push_back(flatten(s));
+  for (size_t j = 0; j < x.size(); ++j) {
+    double m = 0;
+    for (auto& v : fx) m += v[j];
+    m /= G;
+    double s = 0;
+    for (auto& v : fx) s += (v[j] - m) * (v[j] - m);
+    jack[j] = std::sqrt((G - 1.0) / G * s);
   }
+  return jack;
+}
+
+// Parameters and their uncertainty: the full-data fit, with the larger of the group jackknife
+// (spread of the leave-one-group-out fits) and the curvature error inflated for correlated
+// residuals; then each cause's derived parameters, bounds reached and plain words.
+void estimate_cause_parameters(const DiagnoseProblem& p, const std::vector<int>& all, Diagnosis& dg) {
+  const GlobalFit& full = dg.final_fit;
+  std::vector<double> jack = group_jackknife(dg, full, dg.final_cv);
   double inflate = 1.0 / std::sqrt(std::max(dg.floor.n_eff_ratio, 1e-3));
   auto fits_all = p.evaluate(full.state, all);
   size_t off = p.baseline_params().size();
@@ -791,6 +816,50 @@ Diagnosis diagnose(const DiagnoseProblem& p, const SelectionOptions& o) {
     cr.at_bound = final_params_at_bound(c, cr.theta);
     cr.words = p.plain_words(c, cr.theta, cr.uncertainty, cr.derived);
   }
+}
+
+// The one-line verdict: the set-aside cause first, then the causes found (or the closest
+// candidate when none), then the instrument-mismatch note.
+std::string verdict_text(const DiagnoseProblem& p, const Diagnosis& dg) {
+  std::string verdict;
+  if (dg.causes.empty()) {
+    const CandidateTrial* b = nullptr;
+    if (!dg.steps.empty())
+      for (auto& t : dg.steps[0])
+        if (!b || t.mean_gain - t.threshold > b->mean_gain - b->threshold) b = &t;
+    verdict = "no significant effect: no candidate cause improves the held-out prediction by more than the noise allows";
+    if (!dg.set_aside.empty()) verdict = "no cause accepted";  // the set-aside one did; the verdict opens with it
+    else if (b)
+      verdict += " (closest: " + p.candidates()[b->candidate].id + ", gain " + fmtg(b->mean_gain) + " vs threshold " +
+                 fmtg(b->threshold) + ")";
+  } else {
+    verdict = std::to_string(dg.causes.size()) + " cause(s) found:";
+    for (auto& c : dg.causes) verdict += " " + p.candidates()[c.candidate].id;
+  }
+  verdict = set_aside_verdict(p, dg.set_aside) + verdict;
+  if (dg.instrument_mismatch)
+    verdict += "; instrument mismatch: the baseline misses by only " + fmtg(dg.baseline_lack_of_fit) + " x the noise floor and " +
+               fmtg(100 * dg.common_shape_share) +
+               " % of its residual is one shape shared by every item (tissue causes had to exceed the noise floor)";
+  return verdict;
+}
+
+}  // namespace
+
+Diagnosis diagnose(const DiagnoseProblem& p, const SelectionOptions& o) {
+  Diagnosis dg;
+  dg.options = o;
+  dg.folds = make_folds(p, o.group_columns);
+  require_two_folds(dg.folds, o);
+  auto all = all_items(p);
+  fit_baseline(p, o, all, dg);
+
+  SelectionState s{dg.baseline_cv, dg.baseline_fit, {}};
+  for (int step = 1; step <= o.max_causes; ++step)
+    if (!selection_step(p, o, all, step, s, dg)) break;
+  dg.final_fit = s.full;
+  dg.final_cv = s.current;
+  estimate_cause_parameters(p, all, dg);
 
   dg.instrument_check = instrument_checks(p, dg, o.check_by);
   dg.rmse_baseline_heldout = dg.baseline_cv.rmse();
@@ -800,25 +869,7 @@ Diagnosis diagnose(const DiagnoseProblem& p, const SelectionOptions& o) {
   dg.ve_extended_heldout = overall.ve_after;
   if (!o.report_by.empty()) dg.by_report = breakdown(p, dg.baseline_cv, dg.final_cv, o.report_by, nullptr);
   dg.by_fold = breakdown(p, dg.baseline_cv, dg.final_cv, "", &dg.folds);
-  if (dg.causes.empty()) {
-    const CandidateTrial* b = nullptr;
-    if (!dg.steps.empty())
-      for (auto& t : dg.steps[0])
-        if (!b || t.mean_gain - t.threshold > b->mean_gain - b->threshold) b = &t;
-    dg.verdict = "no significant effect: no candidate cause improves the held-out prediction by more than the noise allows";
-    if (!dg.set_aside.empty()) dg.verdict = "no cause accepted";  // the set-aside one did; the verdict opens with it
-    else if (b)
-      dg.verdict += " (closest: " + p.candidates()[b->candidate].id + ", gain " + fmtg(b->mean_gain) + " vs threshold " +
-                    fmtg(b->threshold) + ")";
-  } else {
-    dg.verdict = std::to_string(dg.causes.size()) + " cause(s) found:";
-    for (auto& c : dg.causes) dg.verdict += " " + p.candidates()[c.candidate].id;
-  }
-  dg.verdict = set_aside_verdict(p, dg.set_aside) + dg.verdict;
-  if (dg.instrument_mismatch)
-    dg.verdict += "; instrument mismatch: the baseline misses by only " + fmtg(dg.baseline_lack_of_fit) +
-                  " x the noise floor and " + fmtg(100 * dg.common_shape_share) +
-                  " % of its residual is one shape shared by every item (tissue causes had to exceed the noise floor)";
+  dg.verdict = verdict_text(p, dg);
   return dg;
 }
 

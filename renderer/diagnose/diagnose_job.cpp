@@ -170,9 +170,10 @@ DiagnoseOutcome run_diagnose_job(const DiagnoseJob& job) {
       out.report["unknown_band_estimate"] = unknown_band_json(ub);
       out.text += unknown_band_text(ub);
       if (!job.outdir.empty()) {
-        auto f = std::filesystem::path(job.outdir) / "unknown_band.svg";
-        write_file_atomic(f, unknown_band_svg(ub));
-        out.files.push_back(f.string());
+        auto stem = std::filesystem::path(job.outdir) / "unknown_band";
+        unknown_band_plot(ub).write_svg_and_png(stem);
+        out.files.push_back(stem.string() + ".svg");
+        out.files.push_back(stem.string() + ".png");
       }
     }
   }

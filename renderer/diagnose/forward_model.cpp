@@ -234,36 +234,86 @@ int match_light(const std::vector<LightEntry>& lights, const std::map<std::strin
   return best;
 }
 
-SpectraProblem::SpectraProblem(SpectraSet data, SpectraModel model) : data_(std::move(data)), model_(std::move(model)) {
-  if (model_.lights.empty()) throw InputError("model", "/lights", "no excitation lights given");
-  if (model_.fluorophores.empty()) throw InputError("model", "/fluorophores", "the baseline needs at least one fluorophore");
-  // The grid covers the data and the LED bands with room for shifts and blur at the ends.
+namespace {
+
+// The data's wavelength span.
+std::pair<double, double> data_span(const SpectraSet& data) {
   double lo = 1e9, hi = 0;
-  for (auto& s : data_.spectra) {
+  for (auto& s : data.spectra) {
     lo = std::min(lo, s.nm.front());
     hi = std::max(hi, s.nm.back());
   }
-  const double pad = 40, step = model_.grid_step_nm;
+  return {lo, hi};
+}
+
+// The grid covers the data and the LED bands with room for shifts and blur at the ends.
+WavelengthGrid model_grid(double lo, double hi, double step) {
+  const double pad = 40;
   double gmin = std::floor((std::min(lo, 350.0) - pad) / step) * step;
   if (gmin < step) gmin = step;
   double gmax = gmin + step * std::ceil((hi + pad - gmin) / step);
-  grid_ = WavelengthGrid{gmin, gmax, step};
-  if (auto p = grid_.problem(); !p.empty()) throw InputError("model", "/grid_step_nm", p);
+  WavelengthGrid grid{gmin, gmax, step};
+  if (auto p = grid.problem(); !p.empty()) throw InputError("model", "/grid_step_nm", p);
+  return grid;
+}
 
-  // Fluorophores: the baseline, then every extra candidate.
-  eem_names_ = model_.fluorophores;
+// The baseline fluorophores, then every extra candidate (the library's others by default).
+std::vector<std::string> fluorophore_list(const SpectraModel& model) {
+  std::vector<std::string> names = model.fluorophores;
   std::vector<std::string> extras;
-  if (model_.candidates.extra_fluorophore) {
-    extras = model_.candidates.extra_from;
+  if (model.candidates.extra_fluorophore) {
+    extras = model.candidates.extra_from;
     if (extras.empty())
       for (auto& e : fluorophore_library())
-        if (std::find(eem_names_.begin(), eem_names_.end(), e.name) == eem_names_.end()) extras.push_back(e.name);
+        if (std::find(names.begin(), names.end(), e.name) == names.end()) extras.push_back(e.name);
     for (auto& e : extras)
-      if (std::find(eem_names_.begin(), eem_names_.end(), e) != eem_names_.end())
+      if (std::find(names.begin(), names.end(), e) != names.end())
         throw InputError("model", "/candidates/extra_fluorophore/from", "\"" + e + "\" is already in the baseline");
   }
-  for (auto& e : extras) eem_names_.push_back(e);
+  for (auto& e : extras) names.push_back(e);
+  return names;
+}
+
+// "no light in the model matches this row ( col=value ...)": the row's values of every column a
+// light's `when` names.
+std::string light_conditions(const std::vector<LightEntry>& lights, const MeasuredSpectrum& s) {
+  std::string cond;
+  for (auto& L : lights)
+    for (auto& [c, v] : L.when) {
+      (void)v;
+      auto f = s.conditions.find(c);
+      if (cond.find(c + "=") == std::string::npos) cond += " " + c + "=" + (f == s.conditions.end() ? "" : f->second);
+    }
+  return "no light in the model matches this row (" + cond.substr(cond.empty() ? 0 : 1) + ")";
+}
+
+}  // namespace
+
+SpectraProblem::SpectraProblem(SpectraSet data, SpectraModel model) : data_(std::move(data)), model_(std::move(model)) {
+  if (model_.lights.empty()) throw InputError("model", "/lights", "no excitation lights given");
+  if (model_.fluorophores.empty()) throw InputError("model", "/fluorophores", "the baseline needs at least one fluorophore");
+  auto [lo, hi] = data_span(data_);
+  grid_ = model_grid(lo, hi, model_.grid_step_nm);
+  eem_names_ = fluorophore_list(model_);
   for (auto& n : eem_names_) eems_.push_back(load_fluorophore(n, grid_, model_.base_dir));
+  make_candidates(lo, hi);
+  for (auto& L : model_.lights) lights_.push_back(light_basis(L));
+  add_layered_candidate();
+  replicate_scoped_params();
+  for (auto& c : model_.shared_by) {
+    bool any = false;
+    for (auto& sp : data_.spectra) any = any || (sp.conditions.count(c) && !sp.conditions.at(c).empty());
+    if (!any && !data_.spectra.empty())
+      throw InputError("model", "/shared_concentrations", "column \"" + c + "\" is empty or missing for every spectrum");
+  }
+  for (int i = 0; i < grid_.size(); ++i)
+    if (grid_.wavelength(i) >= model_.fit_min_nm && grid_.wavelength(i) <= model_.fit_max_nm && grid_.wavelength(i) >= lo &&
+        grid_.wavelength(i) <= hi)
+      fit_grid_.push_back(i);
+  for (size_t i = 0; i < data_.spectra.size(); ++i) items_.push_back(make_item(static_cast<int>(i)));
+}
+
+void SpectraProblem::make_candidates(double lo, double hi) {
   SpectraCandidateOptions copt = model_.candidates;
   copt.leak = copt.leak && leak_candidate_possible(model_);
   copt.leak_passband = model_.leak == LeakSource::kNone;
@@ -273,98 +323,76 @@ SpectraProblem::SpectraProblem(SpectraSet data, SpectraModel model) : data_(std:
     info.push_back({eem_names_[k], emission_peak_nm(eems_[k]), k < model_.fluorophores.size()});
   range_ = {std::max(model_.fit_min_nm, lo), std::min(model_.fit_max_nm, hi)};
   candidates_ = spectra_candidates(copt, info, range_);
+}
 
+SpectraProblem::LightBasis SpectraProblem::light_basis(const LightEntry& L) const {
   const int N = grid_.size();
-  for (auto& L : model_.lights) {
-    LightBasis b;
-    auto e = tabulate(L.spectrum, grid_);
-    if (model_.excitation_filter) {
-      auto t = tabulate(model_.excitation_filter->at_angle(0), grid_);
-      for (int i = 0; i < N; ++i) e[i] *= t[i];
-    }
-    for (double& v : e) v = std::max(v, 0.0);
-    // The LED band: from the peak outwards until the light falls below the instrument floor.
-    int pk = static_cast<int>(std::max_element(e.begin(), e.end()) - e.begin());
-    double floor = model_.light_floor_fraction * e[pk];
-    b.e_tail.assign(N, 0.0);
-    for (int i = pk; i < N && e[i] >= floor; ++i) b.e_tail[i] = e[i];
-    for (int i = pk; i >= 0 && e[i] >= floor; --i) b.e_tail[i] = e[i];
-    // Photon units for the EEM (photons per joule ~ wavelength), back to energy on the way out.
-    std::vector<double> eph(N);
-    for (int i = 0; i < N; ++i) eph[i] = b.e_tail[i] * grid_.wavelength(i);
-    for (auto& eem : eems_) {
-      auto col = eem.apply(eph);
-      for (int i = 0; i < N; ++i) col[i] /= grid_.wavelength(i);
-      b.fluor.push_back(std::move(col));
-    }
-    // The white-target record through the long-pass is kept whole: beyond the LED band it holds a
-    // broad floor (480-800 nm) that is 0.28-0.31 of the 480-500 nm level at every current of an LED
-    // (405 nm: 90, 560, 980 mA), i.e. light the LED puts through the filters, which scales with the
-    // reflected excitation like the rest of the leak, not a dark offset of the instrument.
-    if (L.leak) b.leak = tabulate(*L.leak, grid_);
-    b.e = std::move(e);
-    lights_.push_back(std::move(b));
+  LightBasis b;
+  auto e = tabulate(L.spectrum, grid_);
+  if (model_.excitation_filter) {
+    auto t = tabulate(model_.excitation_filter->at_angle(0), grid_);
+    for (int i = 0; i < N; ++i) e[i] *= t[i];
   }
-
-  add_layered_candidate();
-  replicate_scoped_params();
-  for (auto& c : model_.shared_by) {
-    bool any = false;
-    for (auto& sp : data_.spectra) any = any || (sp.conditions.count(c) && !sp.conditions.at(c).empty());
-    if (!any && !data_.spectra.empty())
-      throw InputError("model", "/shared_concentrations", "column \"" + c + "\" is empty or missing for every spectrum");
+  for (double& v : e) v = std::max(v, 0.0);
+  // The LED band: from the peak outwards until the light falls below the instrument floor.
+  int pk = static_cast<int>(std::max_element(e.begin(), e.end()) - e.begin());
+  double floor = model_.light_floor_fraction * e[pk];
+  b.e_tail.assign(N, 0.0);
+  for (int i = pk; i < N && e[i] >= floor; ++i) b.e_tail[i] = e[i];
+  for (int i = pk; i >= 0 && e[i] >= floor; --i) b.e_tail[i] = e[i];
+  // Photon units for the EEM (photons per joule ~ wavelength), back to energy on the way out.
+  std::vector<double> eph(N);
+  for (int i = 0; i < N; ++i) eph[i] = b.e_tail[i] * grid_.wavelength(i);
+  for (auto& eem : eems_) {
+    auto col = eem.apply(eph);
+    for (int i = 0; i < N; ++i) col[i] /= grid_.wavelength(i);
+    b.fluor.push_back(std::move(col));
   }
+  // The white-target record through the long-pass is kept whole: beyond the LED band it holds a
+  // broad floor (480-800 nm) that is 0.28-0.31 of the 480-500 nm level at every current of an LED
+  // (405 nm: 90, 560, 980 mA), i.e. light the LED puts through the filters, which scales with the
+  // reflected excitation like the rest of the leak, not a dark offset of the instrument.
+  if (L.leak) b.leak = tabulate(*L.leak, grid_);
+  b.e = std::move(e);
+  return b;
+}
 
-  for (int i = 0; i < grid_.size(); ++i)
-    if (grid_.wavelength(i) >= model_.fit_min_nm && grid_.wavelength(i) <= model_.fit_max_nm && grid_.wavelength(i) >= lo &&
-        grid_.wavelength(i) <= hi)
-      fit_grid_.push_back(i);
-
-  for (auto& s : data_.spectra) {
-    Item it;
-    std::string where = "line " + std::to_string(s.index_line);
-    it.light = match_light(model_.lights, s.conditions, model_.nearest_column);
-    if (it.light < 0) {
-      std::string cond;
-      for (auto& L : model_.lights)
-        for (auto& [c, v] : L.when) {
-          (void)v;
-          auto f = s.conditions.find(c);
-          if (cond.find(c + "=") == std::string::npos) cond += " " + c + "=" + (f == s.conditions.end() ? "" : f->second);
-        }
-      throw InputError(data_.index_file, where, "no light in the model matches this row (" + cond.substr(cond.empty() ? 0 : 1) + ")");
+SpectraProblem::Item SpectraProblem::make_item(int index) const {
+  const MeasuredSpectrum& s = data_.spectra[index];
+  const int N = grid_.size();
+  Item it;
+  it.light = match_light(model_.lights, s.conditions, model_.nearest_column);
+  if (it.light < 0) throw InputError(data_.index_file, "line " + std::to_string(s.index_line), light_conditions(model_.lights, s));
+  std::vector<double> y;
+  for (size_t k = 0; k < s.nm.size(); ++k)
+    if (s.nm[k] >= model_.fit_min_nm && s.nm[k] <= model_.fit_max_nm) {
+      it.nm.push_back(s.nm[k]);
+      y.push_back(s.value[k]);
     }
-    std::vector<double> y;
-    for (size_t k = 0; k < s.nm.size(); ++k)
-      if (s.nm[k] >= model_.fit_min_nm && s.nm[k] <= model_.fit_max_nm) {
-        it.nm.push_back(s.nm[k]);
-        y.push_back(s.value[k]);
-      }
-    if (it.nm.size() < 8) throw InputError(s.file, "wavelength_nm", "fewer than 8 samples inside the fit range");
-    double m = 0;
-    for (double v : y) m += v;
-    m /= y.size();
-    if (!(m > 0)) throw InputError(s.file, "radiance", "mean radiance over the fit range is not positive");
-    it.mean = m;
-    it.y = Eigen::Map<Eigen::VectorXd>(y.data(), static_cast<Eigen::Index>(y.size())) / m;
-    it.noise = high_frequency_noise(it.y);
-    for (int kind : {kTissueScope, kInstrumentScope}) {
-      const auto& values = scopes_[kind].values;
-      it.scope[kind] = static_cast<int>(std::find(values.begin(), values.end(), scope_key(s, kind)) - values.begin());
-    }
-    for (double nm : it.nm) {
-      double x = (nm - grid_.min_nm) / grid_.step_nm;
-      int a = std::clamp(static_cast<int>(std::floor(x)), 0, N - 2);
-      it.lo.push_back(a);
-      it.w.push_back(std::clamp(x - a, 0.0, 1.0));
-    }
-    if (!sites_.empty()) {
-      std::string site = condition(static_cast<int>(items_.size()), model_.layered.site_column);
-      for (size_t q = 0; q < sites_.size(); ++q)
-        if (sites_[q]->site() == site) it.site = static_cast<int>(q);
-    }
-    items_.push_back(std::move(it));
+  if (it.nm.size() < 8) throw InputError(s.file, "wavelength_nm", "fewer than 8 samples inside the fit range");
+  double m = 0;
+  for (double v : y) m += v;
+  m /= y.size();
+  if (!(m > 0)) throw InputError(s.file, "radiance", "mean radiance over the fit range is not positive");
+  it.mean = m;
+  it.y = Eigen::Map<Eigen::VectorXd>(y.data(), static_cast<Eigen::Index>(y.size())) / m;
+  it.noise = high_frequency_noise(it.y);
+  for (int kind : {kTissueScope, kInstrumentScope}) {
+    const auto& values = scopes_[kind].values;
+    it.scope[kind] = static_cast<int>(std::find(values.begin(), values.end(), scope_key(s, kind)) - values.begin());
   }
+  for (double nm : it.nm) {
+    double x = (nm - grid_.min_nm) / grid_.step_nm;
+    int a = std::clamp(static_cast<int>(std::floor(x)), 0, N - 2);
+    it.lo.push_back(a);
+    it.w.push_back(std::clamp(x - a, 0.0, 1.0));
+  }
+  if (!sites_.empty()) {
+    std::string site = condition(index, model_.layered.site_column);
+    for (size_t q = 0; q < sites_.size(); ++q)
+      if (sites_[q]->site() == site) it.site = static_cast<int>(q);
+  }
+  return it;
 }
 
 std::string SpectraProblem::condition(int i, const std::string& column) const {

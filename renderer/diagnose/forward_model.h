@@ -151,6 +151,11 @@ class SpectraProblem : public DiagnoseProblem {
                               const std::vector<DerivedParam>& derived) const;
   std::vector<std::vector<double>> grid_columns(int light, int site, const Effects& fx, std::vector<std::string>* names) const;
   void add_layered_candidate();
+  // Steps of the constructor: the candidate list for the data's span [lo, hi], one light's basis
+  // on the grid, and the fit item of data_.spectra[index].
+  void make_candidates(double lo, double hi);
+  LightBasis light_basis(const LightEntry& light) const;
+  Item make_item(int index) const;
   std::string visit_of(int i) const;
   void fit_visit(const std::vector<int>& items, const std::vector<size_t>& group, const std::vector<Eigen::MatrixXd>& A,
                  const std::vector<std::string>& names, std::vector<ItemFit>& out) const;

@@ -2,8 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <sstream>
 
 #include "renderer/diagnose/nnls.h"
+#include "renderer/plot/charts.h"
 
 namespace ofl {
 
@@ -131,11 +134,6 @@ UnknownBandEstimate estimate_unknown_band(const SpectraProblem& p, const ModelSt
 
 }  // namespace ofl
 
-#include <cstdio>
-#include <sstream>
-
-#include "renderer/diagnose/svg_plot.h"
-
 namespace ofl {
 
 UnknownBandReport unknown_band_report(const SpectraProblem& p, const Diagnosis& d) {
@@ -179,7 +177,7 @@ std::string unknown_band_text(const UnknownBandReport& r) {
   return o.str();
 }
 
-std::string unknown_band_svg(const UnknownBandReport& r) {
+VectorPlot unknown_band_plot(const UnknownBandReport& r) {
   Plot pl;
   pl.title = "unknown band: shape estimated from the residuals (as recorded, peak = 1)";
   pl.xlabel = "wavelength (nm)";
@@ -189,7 +187,7 @@ std::string unknown_band_svg(const UnknownBandReport& r) {
   s.y = r.estimate.shape;
   s.label = "estimated band";
   pl.series.push_back(s);
-  return svg_plot(pl);
+  return line_chart(pl);
 }
 
 }  // namespace ofl

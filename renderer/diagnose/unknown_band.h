@@ -35,6 +35,7 @@ UnknownBandEstimate estimate_unknown_band(const SpectraProblem& p, const ModelSt
 #include <nlohmann/json.hpp>
 
 #include "renderer/diagnose/cross_validation.h"
+#include "renderer/plot/vector_plot.h"
 
 namespace ofl {
 
@@ -49,6 +50,6 @@ struct UnknownBandReport {
 UnknownBandReport unknown_band_report(const SpectraProblem& p, const Diagnosis& d);
 nlohmann::json unknown_band_json(const UnknownBandReport& r);
 std::string unknown_band_text(const UnknownBandReport& r);
-std::string unknown_band_svg(const UnknownBandReport& r);
+VectorPlot unknown_band_plot(const UnknownBandReport& r);
 
 }  // namespace ofl

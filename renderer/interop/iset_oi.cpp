@@ -33,21 +33,6 @@ std::vector<double> band_photon_transmission(const CameraDescription& cam, const
   return out;
 }
 
-// The sensor's field geometry as `oralfluor camera` sets it up (renderer/camera/camera_pipeline.cpp,
-// simulate_camera): axis offset from the optics stage, the sensor CRA at the farthest corner.
-FieldGeometry sensor_geometry(const SpectralImage& img, const CameraDescription& cam, const OpticalImage& optical,
-                              std::vector<std::string>* warnings) {
-  FieldGeometry g = make_field_geometry(cam.lens, cam.sensor, img.width, img.height,
-                                        cam.optics.enabled ? std::nullopt : render_vfov_deg(img, warnings), warnings);
-  g.axis_x_px = optical.axis_x_px;
-  g.axis_y_px = optical.axis_y_px;
-  if (cam.lens.sensor_cra_deg >= 0) {
-    double rmax = g.max_radius_px();
-    g.sensor_tan_per_px = rmax > 0 ? std::tan(cam.lens.sensor_cra_deg * kPi / 180.0) / rmax : 0.0;
-  }
-  return g;
-}
-
 // Column-major rows x cols x bands irradiance photons (see the header), and their sum.
 MatValue irradiance_photons(const SpectralImage& L, const CameraDescription& cam, const FieldGeometry& g, double* sum) {
   const size_t H = L.height, W = L.width, B = L.bands();
@@ -91,7 +76,7 @@ IsetOi make_iset_oi(const SpectralImage& radiance_in, const CameraDescription& c
     r.warnings.insert(r.warnings.end(), optical.warnings.begin(), optical.warnings.end());
   }
   const SpectralImage& L = cam.optics.enabled ? optical.image : radiance;
-  FieldGeometry g = sensor_geometry(L, cam, optical, &r.warnings);
+  FieldGeometry g = sensor_field_geometry(L, cam, optical.axis_x_px, optical.axis_y_px, &r.warnings);
   r.rows = L.height;
   r.cols = L.width;
   r.pixel_pitch_m = cam.sensor.pixel_pitch_um * 1e-6;

@@ -242,23 +242,21 @@ nlohmann::ordered_json contrast_metrics(const RoiCells& lesion, const RoiCells& 
   return j;
 }
 
-nlohmann::ordered_json roi_metrics(const MetricImages& im, const std::vector<uint8_t>& mask, const SensorDescription& sensor,
-                                   RoiCells* cells_out) {
-  nlohmann::ordered_json j;
-  size_t pixels = 0;
-  for (uint8_t m : mask) pixels += m != 0;
-  RoiCells rc = roi_cells(im, mask);
-  j["pixels"] = pixels;
-  j["cells"] = rc.cells.size();
-  j["saturated_fraction"] = rc.complete ? num(double(rc.saturated) / double(rc.complete)) : nlohmann::json(nullptr);
+namespace {
 
+// Irradiance over the ROI's pixels (aov.irradiance): mean, min/max, p5/p95, coefficient of variation.
+void add_irradiance_metrics(nlohmann::ordered_json& j, const MetricImages& im, const std::vector<uint8_t>& mask) {
   IrradianceStats irr = im.irradiance ? irradiance_stats(*im.irradiance, mask) : IrradianceStats{};
   bool have_irr = im.irradiance && irr.pixels > 0;
   j["irr_mean"] = have_irr ? num(irr.mean) : nullptr;
   j["irr_min_max"] = have_irr ? num(irr.min_over_max) : nullptr;
   j["irr_p5_p95"] = have_irr ? num(irr.p5_over_p95) : nullptr;
   j["irr_cv"] = have_irr ? num(irr.cv) : nullptr;
+}
 
+// The cells' intensity spread, chromaticity spread (raw, noise-free, Monte Carlo and what is left
+// without it) and how chromaticity follows intensity, irradiance and field angle.
+void add_chromaticity_metrics(nlohmann::ordered_json& j, const RoiCells& rc) {
   std::vector<double> inten, r_nf, g_nf, lirr, r_irr, g_irr, irr_lin, ang10, r_ang, g_ang;
   for (auto& c : rc.cells) {
     inten.push_back(c.intensity);
@@ -311,8 +309,12 @@ nlohmann::ordered_json roi_metrics(const MetricImages& im, const std::vector<uin
   j["slope_g_irr"] = num(ls_slope(lirr, g_irr));
   j["slope_r_angle"] = num(ls_slope(ang10, r_ang));
   j["slope_g_angle"] = num(ls_slope(ang10, g_ang));
+}
 
-  // Shares and SNR over the ROI's pixels, each pixel counting its own CFA colour.
+// Shares (fluorescence, reflected, leak) and SNR over the ROI's pixels, each pixel counting its own
+// CFA colour.
+void add_signal_metrics(nlohmann::ordered_json& j, const MetricImages& im, const std::vector<uint8_t>& mask,
+                        const SensorDescription& sensor) {
   double parts[3] = {0, 0, 0}, ch_sum[3] = {0, 0, 0}, fl_ch[3] = {0, 0, 0};
   size_t ch_n[3] = {0, 0, 0};
   for (int y = 0; y < im.height; ++y)
@@ -350,6 +352,22 @@ nlohmann::ordered_json roi_metrics(const MetricImages& im, const std::vector<uin
   } else {
     j["snr_fl"] = nullptr;
   }
+}
+
+}  // namespace
+
+nlohmann::ordered_json roi_metrics(const MetricImages& im, const std::vector<uint8_t>& mask, const SensorDescription& sensor,
+                                   RoiCells* cells_out) {
+  nlohmann::ordered_json j;
+  size_t pixels = 0;
+  for (uint8_t m : mask) pixels += m != 0;
+  RoiCells rc = roi_cells(im, mask);
+  j["pixels"] = pixels;
+  j["cells"] = rc.cells.size();
+  j["saturated_fraction"] = rc.complete ? num(double(rc.saturated) / double(rc.complete)) : nlohmann::json(nullptr);
+  add_irradiance_metrics(j, im, mask);
+  add_chromaticity_metrics(j, rc);
+  add_signal_metrics(j, im, mask, sensor);
   if (cells_out) *cells_out = std::move(rc);
   return j;
 }

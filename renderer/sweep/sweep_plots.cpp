@@ -1,6 +1,7 @@
 #include "renderer/sweep/sweep_plots.h"
 
-#include "renderer/analysis/plot_axis.h"
+#include "renderer/plot/axis_frame.h"
+#include "renderer/plot/palette.h"
 
 #include <algorithm>
 #include <cmath>
@@ -11,18 +12,10 @@
 namespace ofl {
 namespace {
 
-const unsigned kRoiPalette[] = {0x1f77b4, 0xd62728, 0x2ca02c, 0x9467bd, 0x8c564b, 0x17becf};
-// Reference lines are dashed, in colours the ROIs do not use.
-const unsigned kLinePalette[] = {0xff7f0e, 0xe377c2, 0xbcbd22, 0x7f7f7f, 0x8c564b, 0x393b79, 0x637939, 0xad494a};
-
-struct Frame {
-  double x, y, w, h;  // pixel rectangle of the data area
-  double x0, x1, y0, y1;
-  Point2 map(double vx, double vy) const {
-    return {x + (vx - x0) / (x1 - x0) * w, y + h - (vy - y0) / (y1 - y0) * h};
-  }
-  ClipRect clip() const { return {x, y, x + w, y + h}; }
-};
+// ROIs and reference lines in colours of the one palette (palette.h); the lines, dashed, in
+// colours the ROIs do not use.
+const int kRoiColors[] = {0, 1, 2, 4, 5, 7};
+const int kLineColors[] = {3, 6, 9, 8};
 
 void pad_range(double* lo, double* hi, double frac) {
   if (!(*hi > *lo)) {
@@ -36,54 +29,33 @@ void pad_range(double* lo, double* hi, double frac) {
   *hi += d;
 }
 
-void draw_frame(VectorPlot& p, const Frame& f, const std::string& title, const std::string& xlabel, bool y_ticks = true,
-                const std::vector<std::string>* categories = nullptr) {
-  Rgba grid = rgb_hex(0xe3e3e3), axis = rgb_hex(0x333333), label = rgb_hex(0x222222);
-  if (y_ticks) {
-    double st = nice_tick_step(f.y1 - f.y0, 4);
-    for (double v : axis_ticks(f.y0, f.y1, st)) {
-      auto a = f.map(f.x0, v), b = f.map(f.x1, v);
-      p.polyline({a, b}, grid, 1);
-      p.text({a[0] - 4, a[1] + 4}, tick_label(v, st), 10, label, TextAnchor::kEnd);
-    }
-  }
-  if (categories) {
-    for (size_t i = 0; i < categories->size(); ++i) {
-      auto a = f.map(double(i), f.y0);
-      std::string t = (*categories)[i];
-      if (t.size() > 16) t = t.substr(0, 15) + "~";
-      p.text({a[0], a[1] + 14}, t, 10, label, TextAnchor::kMiddle);
-    }
-  } else {
-    double st = nice_tick_step(f.x1 - f.x0, 4);
-    for (double v : axis_ticks(f.x0, f.x1, st)) {
-      auto a = f.map(v, f.y0), b = f.map(v, f.y1);
-      p.polyline({a, b}, grid, 1);
-      p.text({a[0], a[1] + 14}, tick_label(v, st), 10, label, TextAnchor::kMiddle);
-    }
-  }
-  p.rect(f.x, f.y, f.w, f.h, {0, 0, 0, 0}, axis, 1);
+// The frame of every sweep plot: ticks (or category labels), outline, title above, x label below.
+void draw_frame(VectorPlot& p, const AxisFrame& f, const std::string& title, const std::string& xlabel,
+                const std::vector<std::string>& categories = {}) {
+  Rgba axis = rgb_hex(0x333333), label = rgb_hex(0x222222);
+  AxisTicks t;
+  t.x_target = t.y_target = 4;
+  t.y_first = true;
+  t.font = 10;
+  t.x_label_dy = 14;
+  t.y_label_dx = 4;
+  t.grid = rgb_hex(0xe3e3e3);
+  t.categories = categories;
+  t.max_category_chars = 16;
+  draw_axis_ticks(p, f, t);
+  draw_frame_outline(p, f, axis, 1);
   p.text({f.x + f.w / 2, f.y - 8}, title, 12, label, TextAnchor::kMiddle);
   p.text({f.x + f.w / 2, f.y + f.h + 30}, xlabel, 11, label, TextAnchor::kMiddle);
 }
 
-std::vector<Point2> ellipse_points(const Frame& f, double cx, double cy, double a, double b, double ang) {
-  std::vector<Point2> pts;
-  for (int k = 0; k <= 64; ++k) {
-    double t = 2 * 3.14159265358979323846 * k / 64, u = a * std::cos(t), v = b * std::sin(t);
-    pts.push_back(f.map(cx + u * std::cos(ang) - v * std::sin(ang), cy + u * std::sin(ang) + v * std::cos(ang)));
-  }
-  return pts;
-}
-
 }  // namespace
 
-Rgba roi_color(size_t k) { return rgb_hex(kRoiPalette[k % 6]); }
-Rgba line_color(size_t k) { return rgb_hex(kLinePalette[k % 8]); }
+Rgba roi_color(size_t k) { return palette_color(kRoiColors[k % 6]); }
+Rgba line_color(size_t k) { return palette_color(kLineColors[k % 4]); }
 
 VectorPlot metric_plot(const MetricPlotSpec& s, const std::vector<MetricSample>& samples, int width, int height) {
   VectorPlot p(width, height);
-  Frame f{58, 24, width - 70.0, height - 70.0, 0, 1, 0, 1};
+  AxisFrame f{58, 24, width - 70.0, height - 70.0, 0, 1, 0, 1};
   const bool cat = !s.categories.empty();
   double xmin = 1e300, xmax = -1e300, ymin = 1e300, ymax = -1e300;
   for (auto& m : samples) {
@@ -103,7 +75,7 @@ VectorPlot metric_plot(const MetricPlotSpec& s, const std::vector<MetricSample>&
   }
   pad_range(&ymin, &ymax, 0.08);
   f.x0 = xmin, f.x1 = xmax, f.y0 = ymin, f.y1 = ymax;
-  draw_frame(p, f, s.title, s.x_label, true, cat ? &s.categories : nullptr);
+  draw_frame(p, f, s.title, s.x_label, s.categories);
   p.clip(f.clip());
   // Mean per level, joined in x order: the trend the other parameters average over.
   std::map<int, std::pair<double, std::pair<double, int>>> by_level;  // level -> (x, (sum y, n))
@@ -172,7 +144,7 @@ VectorPlot point_chroma_plot(const nlohmann::ordered_json& res, const ScatterSty
   const std::string sfx = style.noise_free ? "_nf" : "";
   VectorPlot p(width, height);
   double side = std::min(width - 70.0, height - 80.0);
-  Frame f{58, 24, side, side, win.r0, win.r1, win.g0, win.g1};
+  AxisFrame f{58, 24, side, side, win.r0, win.r1, win.g0, win.g1};
   // "point 4: variant=lp_absorbing (noise-free)", the label left out when it is too long to fit.
   std::string label = res.value("label", std::string());
   std::string title = "point " + std::to_string(res.value("index", -1));
@@ -206,7 +178,7 @@ VectorPlot point_chroma_plot(const nlohmann::ordered_json& res, const ScatterSty
     if (s.contains("ellipse" + sfx)) {
       const auto& e = s["ellipse" + sfx];
       double mr = s["mean" + sfx][0].get<double>(), mg = s["mean" + sfx][1].get<double>();
-      p.polygon(ellipse_points(f, mr, mg, e["a"].get<double>(), e["b"].get<double>(), e["angle_rad"].get<double>()),
+      p.polygon(ellipse_outline(f, mr, mg, e["a"].get<double>(), e["b"].get<double>(), e["angle_rad"].get<double>(), 64),
                 {0, 0, 0, 0}, c, 1.6);
       auto m = f.map(mr, mg);
       p.polyline({{m[0] - 5, m[1]}, {m[0] + 5, m[1]}}, rgb_hex(0x000000), 1.8);

@@ -1,4 +1,4 @@
-// The report's pictures, drawn with vector_plot.h (so each is SVG for the HTML and PNG for docs):
+// The report's pictures, drawn with renderer/plot/ (so each is SVG for the HTML and PNG for docs):
 //  - a metric against one parameter: one dot per finished point, the mean per level joined by a
 //    line when the parameter has discrete levels (list, grid range or variants);
 //  - one point's chromaticity: the cells of every ROI in the (r, g) plane, each ROI's mean and
@@ -12,7 +12,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "renderer/analysis/vector_plot.h"
+#include "renderer/plot/vector_plot.h"
 
 namespace ofl {
 

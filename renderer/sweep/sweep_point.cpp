@@ -279,105 +279,120 @@ LoadedPoint load_point(const SweepSpec& spec, const DesignPoint& pt) {
   return lp;
 }
 
-PointOutcome evaluate_point(const SweepSpec& spec, const DesignPoint& pt, PointRunContext& ctx) {
-  auto t0 = std::chrono::steady_clock::now();
-  const std::string key = point_key(spec, pt), label = point_label(spec, pt);
-  LoadedPoint lp = load_point(spec, pt);
-  Scene& scene = lp.scene;
-  CameraDescription& cam = lp.camera;
-  const PointDocuments& docs = lp.docs;
-  const SceneOverrides& ov = lp.overrides;
-  const std::set<std::filesystem::path>& scene_inputs = lp.scene_inputs;
+namespace {
 
-  // The render, or the one another point of this sweep made of the same scene with the same
-  // settings (render_cache.h): points that differ only in camera fields render once.
-  const std::filesystem::path scene_dir = docs.scene_file.parent_path();
-  double render_seconds = 0;  // spent on the renders by this point (reading them when cached)
-  auto obtain = [&](int replicate, const RenderOptions& o, std::string* rkey, bool* cached) -> std::optional<RenderResult> {
-    auto t = std::chrono::steady_clock::now();
-    nlohmann::json id = render_identity(docs.scene, scene_dir, scene_inputs, ov, replicate);
-    *rkey = render_key(id);
-    *cached = false;
-    std::optional<RenderResult> out;
-    if (ctx.render_cache) {
-      std::string damaged;
-      if (auto c = ctx.render_cache->load(*rkey, &damaged)) {
-        out = RenderResult{std::move(c->image), c->stats};
-        *cached = true;
-      } else if (!damaged.empty()) {
-        std::fprintf(stderr, "warning: %s\n", damaged.c_str());
-      }
+// The point's renders: one, or two with independent seeds whose average is analysed
+// (spec.render.replicates); the halves stay for the Monte Carlo noise of the metrics.
+struct PointRenders {
+  RenderResult result;           // the image analysed (the average of both when there are two)
+  SpectralImage half_a, half_b;  // the two replicates (empty with one)
+  RenderStats stats;             // of the image analysed
+  double seconds = 0;            // spent on the renders by this point (reading them when cached)
+  std::string key_a, key_b;      // render cache keys
+  bool cached_a = false, cached_b = false;
+};
+
+// One render of the point, or the one another point of this sweep made of the same scene with the
+// same settings (render_cache.h): points that differ only in camera fields render once. Empty when
+// interrupted.
+std::optional<RenderResult> obtain_render(const LoadedPoint& lp, const Scene& scene, PointRunContext& ctx, int replicate,
+                                          const RenderOptions& o, std::string* rkey, bool* cached, double* seconds) {
+  auto t = std::chrono::steady_clock::now();
+  nlohmann::json id = render_identity(lp.docs.scene, lp.docs.scene_file.parent_path(), lp.scene_inputs, lp.overrides, replicate);
+  *rkey = render_key(id);
+  *cached = false;
+  std::optional<RenderResult> out;
+  if (ctx.render_cache) {
+    std::string damaged;
+    if (auto c = ctx.render_cache->load(*rkey, &damaged)) {
+      out = RenderResult{std::move(c->image), c->stats};
+      *cached = true;
+    } else if (!damaged.empty()) {
+      std::fprintf(stderr, "warning: %s\n", damaged.c_str());
     }
-    if (!out) {
-      out = render(scene, o);
-      if (out->stats.interrupted) return std::nullopt;
-      if (ctx.render_cache) ctx.render_cache->save(*rkey, id, out->image, out->stats);
-    }
-    render_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
-    return out;
-  };
+  }
+  if (!out) {
+    out = render(scene, o);
+    if (out->stats.interrupted) return std::nullopt;
+    if (ctx.render_cache) ctx.render_cache->save(*rkey, id, out->image, out->stats);
+  }
+  *seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+  return out;
+}
+
+// The first render and, with two replicates, a second (another seed) averaged into it, weighted by
+// the sample counts. Empty when interrupted.
+std::optional<PointRenders> render_point(const SweepSpec& spec, LoadedPoint& lp, PointRunContext& ctx) {
+  Scene& scene = lp.scene;
+  PointRenders pr;
   RenderOptions ro;
   ro.progress = ctx.progress;
-  std::string render_key_a, render_key_b;
-  bool cached_a = false, cached_b = false;
-  std::optional<RenderResult> first = obtain(0, ro, &render_key_a, &cached_a);
-  if (!first) return {{}, true};
-  RenderResult& rr = *first;
-  // A second, independent render (another seed) for the Monte Carlo noise of the metrics; the
-  // image analysed is the average of both (weighted by their sample counts).
-  SpectralImage half_a, half_b;
-  RenderStats stats = rr.stats;
+  std::optional<RenderResult> first = obtain_render(lp, scene, ctx, 0, ro, &pr.key_a, &pr.cached_a, &pr.seconds);
+  if (!first) return std::nullopt;
+  pr.result = std::move(*first);
+  RenderResult& rr = pr.result;
+  pr.stats = rr.stats;
+  if (spec.render.replicates != 2) return pr;
   const uint64_t seed = scene.integrator.seed;
-  if (spec.render.replicates == 2) {
-    scene.integrator.seed = seed + 0x9e3779b97f4a7c15ULL;
-    RenderOptions ro2 = ro;
-    ro2.aovs = false;
-    std::optional<RenderResult> second = obtain(1, ro2, &render_key_b, &cached_b);
-    scene.integrator.seed = seed;
-    if (!second) return {{}, true};
-    const RenderResult& rb = *second;
-    half_a = rr.image;
-    half_b = rb.image;
-    double wa = rr.stats.spp_done, wb = rb.stats.spp_done, ws = wa + wb;
-    for (size_t i = 0; i < rr.image.data.size(); ++i) rr.image.data[i] = float((wa * half_a.data[i] + wb * half_b.data[i]) / ws);
-    for (size_t i = 0; i < rr.image.fluorescence.size() && i < half_b.fluorescence.size(); ++i)
-      rr.image.fluorescence[i] = float((wa * half_a.fluorescence[i] + wb * half_b.fluorescence[i]) / ws);
-    stats.spp_done += rb.stats.spp_done;
-    stats.seconds += rb.stats.seconds;
-    // Per-pixel noise of the average of two independent estimates.
-    stats.relative_noise = 0.5 * std::sqrt(rr.stats.relative_noise * rr.stats.relative_noise +
-                                           rb.stats.relative_noise * rb.stats.relative_noise);
-  }
-  const SpectralImage& img = rr.image;
-  const int W = img.width, H = img.height;
+  scene.integrator.seed = seed + 0x9e3779b97f4a7c15ULL;
+  RenderOptions ro2 = ro;
+  ro2.aovs = false;
+  std::optional<RenderResult> second = obtain_render(lp, scene, ctx, 1, ro2, &pr.key_b, &pr.cached_b, &pr.seconds);
+  scene.integrator.seed = seed;
+  if (!second) return std::nullopt;
+  const RenderResult& rb = *second;
+  pr.half_a = rr.image;
+  pr.half_b = rb.image;
+  const SpectralImage &half_a = pr.half_a, &half_b = pr.half_b;
+  double wa = rr.stats.spp_done, wb = rb.stats.spp_done, ws = wa + wb;
+  for (size_t i = 0; i < rr.image.data.size(); ++i) rr.image.data[i] = float((wa * half_a.data[i] + wb * half_b.data[i]) / ws);
+  for (size_t i = 0; i < rr.image.fluorescence.size() && i < half_b.fluorescence.size(); ++i)
+    rr.image.fluorescence[i] = float((wa * half_a.fluorescence[i] + wb * half_b.fluorescence[i]) / ws);
+  pr.stats.spp_done += rb.stats.spp_done;
+  pr.stats.seconds += rb.stats.seconds;
+  // Per-pixel noise of the average of two independent estimates.
+  pr.stats.relative_noise = 0.5 * std::sqrt(rr.stats.relative_noise * rr.stats.relative_noise +
+                                            rb.stats.relative_noise * rb.stats.relative_noise);
+  return pr;
+}
 
-  CameraRunOptions co;
-  co.noise = spec.camera_run.noise;
-  co.seed = spec.camera_run.seed;
-  co.write_dng = false;
-  CameraRun run = simulate_camera(img, cam, co, "sweep point " + key);
-
-  // Leaked excitation: reflected light inside the LED's emission band.
+// The LEDs' summed spectrum, the output bands inside their emission band (leaked excitation is
+// reflected light there) and those bands merged into [lo, hi] runs for the result.
+struct LedBands {
+  std::vector<double> led;  // on the scene's grid
+  std::vector<bool> in_band;
+  nlohmann::json runs = nlohmann::json::array();
+};
+LedBands led_bands(const Scene& scene, const SpectralImage& img, double threshold) {
+  LedBands lb;
   const WavelengthGrid& grid = scene.grid();
-  std::vector<double> led(grid.size(), 0.0);
+  lb.led.assign(grid.size(), 0.0);
   for (const auto& l : scene.lights)
-    for (int i = 0; i < grid.size(); ++i) led[i] += l.spectral_intensity[i];
+    for (int i = 0; i < grid.size(); ++i) lb.led[i] += l.spectral_intensity[i];
   auto lo = img.band_lo(), hi = img.band_hi();
-  std::vector<bool> in_band = led_band_mask(lo, hi, grid, led, spec.metrics.led_band_threshold);
-  SignalSplit split = split_signal(img, in_band, cam, run.geometry);
-  nlohmann::json led_bands = nlohmann::json::array();
-  for (size_t b = 0; b < in_band.size(); ++b)
-    if (in_band[b]) {
-      if (!led_bands.empty() && led_bands.back()[1] == lo[b]) led_bands.back()[1] = hi[b];
-      else led_bands.push_back({lo[b], hi[b]});
+  lb.in_band = led_band_mask(lo, hi, grid, lb.led, threshold);
+  for (size_t b = 0; b < lb.in_band.size(); ++b)
+    if (lb.in_band[b]) {
+      if (!lb.runs.empty() && lb.runs.back()[1] == lo[b]) lb.runs.back()[1] = hi[b];
+      else lb.runs.push_back({lo[b], hi[b]});
     }
+  return lb;
+}
 
-  // ROI masks from what each pixel sees.
-  std::vector<std::string> warnings = run.warnings;
-  const auto& mat = img.aovs.at("aov.material");
-  const auto& au = img.aovs.at("aov.u");
-  const auto& av = img.aovs.at("aov.v");
-  MetricImages mi;
+// What the metrics read (sweep_metrics.h), with the planes computed here kept alive beside it.
+struct MetricInputs {
+  MetricImages images;
+  SignalSplit split;
+  std::vector<float> ch_a, ch_b;  // expected electrons per channel of each replicate
+  std::vector<float> field_angle_deg;
+};
+// Fills `in` in place (its images point into its own vectors).
+void fill_metric_inputs(MetricInputs& in, const PointRenders& pr, const CameraRun& run, const CameraDescription& cam,
+                        const std::vector<bool>& in_band, bool replicates) {
+  const SpectralImage& img = pr.result.image;
+  const int W = img.width, H = img.height;
+  in.split = split_signal(img, in_band, cam, run.geometry);
+  MetricImages& mi = in.images;
   mi.width = W;
   mi.height = H;
   mi.cfa = run.meta.cfa;
@@ -386,129 +401,172 @@ PointOutcome evaluate_point(const SweepSpec& spec, const DesignPoint& pt, PointR
   mi.raw = &run.raw.dn;
   mi.expected = &run.expected.mosaic_e;
   mi.channel_e = &run.expected.channel_e;
-  std::vector<float> ch_a, ch_b;
-  if (spec.render.replicates == 2) {
-    ch_a = expected_electrons(half_a, cam, run.geometry).channel_e;
-    ch_b = expected_electrons(half_b, cam, run.geometry).channel_e;
-    mi.channel_e_a = &ch_a;
-    mi.channel_e_b = &ch_b;
+  if (replicates) {
+    in.ch_a = expected_electrons(pr.half_a, cam, run.geometry).channel_e;
+    in.ch_b = expected_electrons(pr.half_b, cam, run.geometry).channel_e;
+    mi.channel_e_a = &in.ch_a;
+    mi.channel_e_b = &in.ch_b;
   }
   mi.irradiance = &img.aovs.at("aov.irradiance");
-  std::vector<float> field_angle(size_t(W) * H);
+  in.field_angle_deg.resize(size_t(W) * H);
   for (int y = 0; y < H; ++y)
     for (int x = 0; x < W; ++x)
-      field_angle[size_t(y) * W + x] = float(run.geometry.field_angle(run.geometry.radius_px(x, y)) * 180.0 / 3.14159265358979323846);
-  mi.field_angle_deg = &field_angle;
-  mi.fluorescence = &split.fluorescence;
-  mi.reflected = &split.reflected;
-  mi.leak = &split.leak;
+      in.field_angle_deg[size_t(y) * W + x] =
+          float(run.geometry.field_angle(run.geometry.radius_px(x, y)) * 180.0 / 3.14159265358979323846);
+  mi.field_angle_deg = &in.field_angle_deg;
+  mi.fluorescence = &in.split.fluorescence;
+  mi.reflected = &in.split.reflected;
+  mi.leak = &in.split.leak;
+}
 
+// The pixels one ROI holds: its material, and inside every texture window.
+struct RoiMask {
+  std::vector<uint8_t> mask;
+  size_t pixels = 0;
+  double x_sum = 0, y_sum = 0;  // of the pixels' indices, for the centroid
+};
+RoiMask roi_mask(const RoiSpec& roi, int material, const SpectralImage& img, PointRunContext& ctx) {
+  const auto& mat = img.aovs.at("aov.material");
+  const auto& au = img.aovs.at("aov.u");
+  const auto& av = img.aovs.at("aov.v");
+  std::vector<const Texture*> tex;
+  for (auto& c : roi.textures) {
+    auto it = ctx.textures.find(c.file.string());
+    if (it == ctx.textures.end()) it = ctx.textures.emplace(c.file.string(), read_texture(c.file)).first;
+    tex.push_back(&it->second);
+  }
+  RoiMask m;
+  m.mask.assign(size_t(img.width) * img.height, 0);
+  for (size_t i = 0; i < m.mask.size(); ++i) {
+    if (material < 0 || std::lround(mat[i]) != material) continue;
+    bool inside = true;
+    for (size_t k = 0; k < tex.size() && inside; ++k) {
+      double t = tex[k]->lookup(au[i], av[i]);
+      inside = t > roi.textures[k].above && t < roi.textures[k].below;
+    }
+    if (!inside) continue;
+    m.mask[i] = 1;
+    ++m.pixels;
+    m.x_sum += double(i % img.width);
+    m.y_sum += double(i / img.width);
+  }
+  return m;
+}
+
+// What the report draws of one ROI: a subsample of the cells, the mean and the 95 % ellipse, from
+// the raw and from the noise-free cells.
+nlohmann::json roi_scatter(const RoiCells& rc, int scatter_cells) {
+  size_t keep = size_t(std::max(0, scatter_cells));
+  size_t stride = keep ? std::max<size_t>(1, (rc.cells.size() + keep - 1) / keep) : 0;
+  nlohmann::json s = nlohmann::json::object();
+  for (bool nf : {false, true}) {
+    const std::string suffix = nf ? "_nf" : "";
+    nlohmann::json pts = nlohmann::json::array();
+    for (size_t k = 0; stride && k < rc.cells.size(); k += stride) {
+      const auto& rg = nf ? rc.cells[k].rg_nf : rc.cells[k].rg;
+      pts.push_back({round_to(rg[0], 1e-5), round_to(rg[1], 1e-5)});
+    }
+    s["cells" + suffix] = pts;
+    if (rc.cells.size() >= 2) {
+      std::vector<std::array<double, 2>> rg;
+      for (auto& c : rc.cells) rg.push_back(nf ? c.rg_nf : c.rg);
+      Spread sp = chroma_spread(rg);
+      Ellipse e = covariance_ellipse(sp.mean_r, sp.mean_g, sp.cov_rr, sp.cov_rg, sp.cov_gg);
+      s["mean" + suffix] = {sp.mean_r, sp.mean_g};
+      s["ellipse" + suffix] = {{"a", e.a}, {"b", e.b}, {"angle_rad", e.angle_rad}};
+    }
+  }
+  return s;
+}
+
+// Every ROI's metrics and scatter, the lesion contrast, which ROI each pixel shows in the ROI
+// picture, and the first ROI's centroid (where the reference lines are evaluated).
+struct RoiResults {
   nlohmann::ordered_json metrics;
-  std::map<std::string, RoiCells> cells;
-  std::vector<int> roi_of_pixel(size_t(W) * H, -1);  // last ROI a pixel belongs to, for the ROI picture
   nlohmann::json scatter = nlohmann::json::object();
+  std::vector<int> roi_of_pixel;  // last ROI a pixel belongs to, -1 for none
   double cx_sum = 0, cy_sum = 0, c_n = 0;
+};
+RoiResults measure_rois(const SweepSpec& spec, const Scene& scene, const SpectralImage& img, const MetricImages& mi,
+                        const CameraDescription& cam, PointRunContext& ctx, std::vector<std::string>& warnings) {
+  RoiResults r;
+  std::map<std::string, RoiCells> cells;
+  r.roi_of_pixel.assign(size_t(img.width) * img.height, -1);
   for (const auto& roi : spec.rois) {
     int index = -1;
     for (size_t m = 0; m < scene.materials.size(); ++m)
       if (scene.materials[m].name == roi.material) index = int(m);
     if (index < 0) warnings.push_back("ROI " + roi.name + ": the scene has no material \"" + roi.material + "\"");
-    std::vector<const Texture*> tex;
-    for (auto& c : roi.textures) {
-      auto it = ctx.textures.find(c.file.string());
-      if (it == ctx.textures.end()) it = ctx.textures.emplace(c.file.string(), read_texture(c.file)).first;
-      tex.push_back(&it->second);
+    RoiMask m = roi_mask(roi, index, img, ctx);
+    if (&roi == &spec.rois.front()) {
+      r.cx_sum = m.x_sum;
+      r.cy_sum = m.y_sum;
+      r.c_n = double(m.pixels);
     }
-    std::vector<uint8_t> mask(size_t(W) * H, 0);
-    size_t n = 0;
-    for (size_t i = 0; i < mask.size(); ++i) {
-      if (index < 0 || std::lround(mat[i]) != index) continue;
-      bool inside = true;
-      for (size_t k = 0; k < tex.size() && inside; ++k) {
-        double t = tex[k]->lookup(au[i], av[i]);
-        inside = t > roi.textures[k].above && t < roi.textures[k].below;
-      }
-      if (!inside) continue;
-      mask[i] = 1;
-      ++n;
-      if (&roi == &spec.rois.front()) {
-        cx_sum += double(i % W);
-        cy_sum += double(i / W);
-        c_n += 1;
-      }
-    }
-    if (index >= 0 && n == 0) warnings.push_back("ROI " + roi.name + " covers no pixel");
+    if (index >= 0 && m.pixels == 0) warnings.push_back("ROI " + roi.name + " covers no pixel");
     RoiCells rc;
-    nlohmann::ordered_json m = roi_metrics(mi, mask, cam.sensor, &rc);
-    for (auto it = m.begin(); it != m.end(); ++it) metrics[roi.name + "." + it.key()] = it.value();
-    // What the report draws: a subsample of the cells, the mean and the 95 % ellipse, from the raw
-    // and from the noise-free cells.
-    size_t keep = size_t(std::max(0, spec.metrics.scatter_cells));
-    size_t stride = keep ? std::max<size_t>(1, (rc.cells.size() + keep - 1) / keep) : 0;
-    nlohmann::json s = nlohmann::json::object();
-    for (bool nf : {false, true}) {
-      const std::string suffix = nf ? "_nf" : "";
-      nlohmann::json pts = nlohmann::json::array();
-      for (size_t k = 0; stride && k < rc.cells.size(); k += stride) {
-        const auto& rg = nf ? rc.cells[k].rg_nf : rc.cells[k].rg;
-        pts.push_back({round_to(rg[0], 1e-5), round_to(rg[1], 1e-5)});
-      }
-      s["cells" + suffix] = pts;
-      if (rc.cells.size() >= 2) {
-        std::vector<std::array<double, 2>> rg;
-        for (auto& c : rc.cells) rg.push_back(nf ? c.rg_nf : c.rg);
-        Spread sp = chroma_spread(rg);
-        Ellipse e = covariance_ellipse(sp.mean_r, sp.mean_g, sp.cov_rr, sp.cov_rg, sp.cov_gg);
-        s["mean" + suffix] = {sp.mean_r, sp.mean_g};
-        s["ellipse" + suffix] = {{"a", e.a}, {"b", e.b}, {"angle_rad", e.angle_rad}};
-      }
-    }
-    scatter[roi.name] = s;
+    nlohmann::ordered_json rm = roi_metrics(mi, m.mask, cam.sensor, &rc);
+    for (auto it = rm.begin(); it != rm.end(); ++it) r.metrics[roi.name + "." + it.key()] = it.value();
+    r.scatter[roi.name] = roi_scatter(rc, spec.metrics.scatter_cells);
     cells[roi.name] = std::move(rc);
-    for (size_t i = 0; i < mask.size(); ++i)
-      if (mask[i]) roi_of_pixel[i] = int(&roi - spec.rois.data());
+    for (size_t i = 0; i < m.mask.size(); ++i)
+      if (m.mask[i]) r.roi_of_pixel[i] = int(&roi - spec.rois.data());
   }
   if (!spec.metrics.lesion_roi.empty()) {
     nlohmann::ordered_json c = contrast_metrics(cells[spec.metrics.lesion_roi], cells[spec.metrics.healthy_roi]);
-    for (auto it = c.begin(); it != c.end(); ++it) metrics["contrast." + it.key()] = it.value();
+    for (auto it = c.begin(); it != c.end(); ++it) r.metrics["contrast." + it.key()] = it.value();
   }
+  return r;
+}
 
-  // Fluorophore reference lines for this point's LED and camera, at the first ROI's field angle.
+// Fluorophore reference lines for this point's LED and camera, at the first ROI's field angle:
+// {"tongue_rg", "lines"} of the result's "reference".
+nlohmann::ordered_json reference_json(const Scene& scene, const std::vector<double>& led, const SpectralImage& img,
+                              const CameraDescription& cam, const FieldGeometry& geometry, const RoiResults& rois) {
+  const WavelengthGrid& grid = scene.grid();
   nlohmann::json lines = nlohmann::json::array();
   nlohmann::json tongue_rg = nullptr;
-  {
-    TabulatedSpectrum t;
-    for (int i = 0; i < grid.size(); ++i) {
-      t.nm.push_back(grid.wavelength(i));
-      t.value.push_back(led[i]);
-    }
-    ReferenceOptions o;
-    o.camera_lo_nm = lo.front();
-    o.camera_hi_nm = hi.back();
-    if (c_n > 0) {
-      double dx = cx_sum / c_n + 0.5 - 0.5 * W, dy = cy_sum / c_n + 0.5 - 0.5 * H;
-      double r = std::sqrt(dx * dx + dy * dy);
-      o.aoi_front_rad = run.geometry.field_angle(r);
-      o.aoi_sensor_rad = run.geometry.sensor_angle(r);
-    }
-    ReferenceSetup setup = make_reference_setup(cam, table_spectrum(t, "LED"), tongue_reflectance_spectrum(), o);
-    auto trg = reference_rg(setup, nullptr, 0.0);
-    if (std::isfinite(trg[0])) tongue_rg = {trg[0], trg[1]};
-    for (const auto& name : kReferenceFluorophores) {
-      GridEem eem = load_fluorophore(name, setup.grid);
-      ReferenceLine l = reference_line(setup, name, eem);
-      if (!l.visible) continue;
-      nlohmann::json rg = nlohmann::json::array();
-      for (auto& p : l.rg) rg.push_back({round_to(p[0], 1e-5), round_to(p[1], 1e-5)});
-      lines.push_back({{"fluorophore", name}, {"rg", rg}});
-    }
+  TabulatedSpectrum t;
+  for (int i = 0; i < grid.size(); ++i) {
+    t.nm.push_back(grid.wavelength(i));
+    t.value.push_back(led[i]);
   }
+  ReferenceOptions o;
+  o.camera_lo_nm = img.band_lo().front();
+  o.camera_hi_nm = img.band_hi().back();
+  if (rois.c_n > 0) {
+    double dx = rois.cx_sum / rois.c_n + 0.5 - 0.5 * img.width, dy = rois.cy_sum / rois.c_n + 0.5 - 0.5 * img.height;
+    double r = std::sqrt(dx * dx + dy * dy);
+    o.aoi_front_rad = geometry.field_angle(r);
+    o.aoi_sensor_rad = geometry.sensor_angle(r);
+  }
+  ReferenceSetup setup = make_reference_setup(cam, table_spectrum(t, "LED"), tongue_reflectance_spectrum(), o);
+  auto trg = reference_rg(setup, nullptr, 0.0);
+  if (std::isfinite(trg[0])) tongue_rg = {trg[0], trg[1]};
+  for (const auto& name : kReferenceFluorophores) {
+    GridEem eem = load_fluorophore(name, setup.grid);
+    ReferenceLine l = reference_line(setup, name, eem);
+    if (!l.visible) continue;
+    nlohmann::json rg = nlohmann::json::array();
+    for (auto& p : l.rg) rg.push_back({round_to(p[0], 1e-5), round_to(p[1], 1e-5)});
+    lines.push_back({{"fluorophore", name}, {"rg", rg}});
+  }
+  return nlohmann::ordered_json{{"tongue_rg", tongue_rg}, {"lines", lines}};
+}
 
-  CameraColor color = camera_color(cam, lo.front(), hi.back(), false);
+// The point's two pictures as PNG bytes: the camera preview, and the ROIs over a grey version of
+// it so that a user can see what each ROI holds.
+struct PointPictures {
+  std::string preview_png, roi_png;
+};
+PointPictures point_pictures(const CameraRun& run, const CameraDescription& cam, const SpectralImage& img,
+                             const std::vector<int>& roi_of_pixel, int thumbnail_width) {
+  const int W = img.width, H = img.height;
+  CameraColor color = camera_color(cam, img.band_lo().front(), img.band_hi().back(), false);
   std::vector<float> rgb = raw_to_linear_srgb(run.raw.dn, W, H, run.meta.cfa, run.meta.black_level_dn,
                                               run.meta.white_level_dn, color, PreviewSettings{});
-  std::string png = thumbnail_png(rgb, W, H, spec.report.thumbnail_width);
-  // The ROIs over a grey version of the preview, so that a user can see what each ROI holds.
+  PointPictures p;
+  p.preview_png = thumbnail_png(rgb, W, H, thumbnail_width);
   std::vector<float> roi_rgb(rgb.size());
   double ex = auto_exposure(rgb);
   for (size_t i = 0; i < roi_of_pixel.size(); ++i) {
@@ -521,7 +579,50 @@ PointOutcome evaluate_point(const SweepSpec& spec, const DesignPoint& pt, PointR
     }
     for (int k = 0; k < 3; ++k) roi_rgb[i * 3 + k] = c[k];
   }
-  std::string roi_png = thumbnail_png(roi_rgb, W, H, std::max(W, spec.report.thumbnail_width), 1.0);
+  p.roi_png = thumbnail_png(roi_rgb, W, H, std::max(W, thumbnail_width), 1.0);
+  return p;
+}
+
+// The result's "render" member: size, samples, noise, time and the light outside the bands.
+nlohmann::ordered_json render_summary(const SweepSpec& spec, const Scene& scene, const PointRenders& pr) {
+  const SpectralImage& img = pr.result.image;
+  return {{"width", img.width},
+          {"height", img.height},
+          {"spp", pr.stats.spp_done},
+          {"replicates", spec.render.replicates},
+          {"spp_max", scene.integrator.spp},
+          {"noise_target", scene.integrator.noise_target},
+          {"relative_noise", pr.stats.relative_noise},
+          {"seconds", pr.seconds},
+          {"lights", scene.lights.size()},
+          {"bands_nm", {img.band_lo().front(), img.band_hi().back()}},
+          {"led_power_outside_bands", led_light_outside_bands(scene).outside_share}};
+}
+
+}  // namespace
+
+PointOutcome evaluate_point(const SweepSpec& spec, const DesignPoint& pt, PointRunContext& ctx) {
+  auto t0 = std::chrono::steady_clock::now();
+  const std::string key = point_key(spec, pt), label = point_label(spec, pt);
+  LoadedPoint lp = load_point(spec, pt);
+  const Scene& scene = lp.scene;
+  const CameraDescription& cam = lp.camera;
+  std::optional<PointRenders> renders = render_point(spec, lp, ctx);
+  if (!renders) return {{}, true};
+  const SpectralImage& img = renders->result.image;
+
+  CameraRunOptions co;
+  co.noise = spec.camera_run.noise;
+  co.seed = spec.camera_run.seed;
+  co.write_dng = false;
+  CameraRun run = simulate_camera(img, cam, co, "sweep point " + key);
+  LedBands bands = led_bands(scene, img, spec.metrics.led_band_threshold);
+  MetricInputs inputs;
+  fill_metric_inputs(inputs, *renders, run, cam, bands.in_band, spec.render.replicates == 2);
+  std::vector<std::string> warnings = run.warnings;
+  RoiResults rois = measure_rois(spec, scene, img, inputs.images, cam, ctx, warnings);
+  nlohmann::ordered_json reference = reference_json(scene, bands.led, img, cam, run.geometry, rois);
+  PointPictures pictures = point_pictures(run, cam, img, rois.roi_of_pixel, spec.report.thumbnail_width);
 
   nlohmann::ordered_json params;
   for (size_t i = 0; i < spec.parameters.size(); ++i) params[spec.parameters[i].name] = pt.values[i];
@@ -535,27 +636,17 @@ PointOutcome evaluate_point(const SweepSpec& spec, const DesignPoint& pt, PointR
   res["index"] = pt.index;
   res["label"] = label;
   res["parameters"] = params;
-  res["metrics"] = metrics;
-  res["render"] = {{"width", W},
-                   {"height", H},
-                   {"spp", stats.spp_done},
-                   {"replicates", spec.render.replicates},
-                   {"spp_max", scene.integrator.spp},
-                   {"noise_target", scene.integrator.noise_target},
-                   {"relative_noise", stats.relative_noise},
-                   {"seconds", render_seconds},
-                   {"lights", scene.lights.size()},
-                   {"bands_nm", {lo.front(), hi.back()}},
-                   {"led_power_outside_bands", led_light_outside_bands(scene).outside_share}};
-  res["render_cached"] = cached_a && (spec.render.replicates < 2 || cached_b);
-  res["render_key"] = render_key_a;
-  if (spec.render.replicates == 2) res["render_key_2"] = render_key_b;
+  res["metrics"] = rois.metrics;
+  res["render"] = render_summary(spec, scene, *renders);
+  res["render_cached"] = renders->cached_a && (spec.render.replicates < 2 || renders->cached_b);
+  res["render_key"] = renders->key_a;
+  if (spec.render.replicates == 2) res["render_key_2"] = renders->key_b;
   res["camera"] = {{"name", cam.name}, {"saturated_fraction", run.summary["saturated_fraction"]}};
-  res["led_band_nm"] = led_bands;
-  res["scatter"] = scatter;
-  res["reference"] = {{"tongue_rg", tongue_rg}, {"lines", lines}};
-  res["thumbnail_png_base64"] = base64_encode(png);
-  res["roi_png_base64"] = base64_encode(roi_png);
+  res["led_band_nm"] = bands.runs;
+  res["scatter"] = rois.scatter;
+  res["reference"] = reference;
+  res["thumbnail_png_base64"] = base64_encode(pictures.preview_png);
+  res["roi_png_base64"] = base64_encode(pictures.roi_png);
   res["warnings"] = warnings;
   res["identity"] = point_identity(spec, pt);
   res["host"] = host;

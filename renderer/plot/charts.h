@@ -1,15 +1,18 @@
-// Minimal SVG charts for reports (line/scatter plots with bands, grouped bars, panels), written
-// by hand so that reports need nothing at run time. Axes get "nice" ticks; NaN points break lines.
+// Report charts drawn onto a VectorPlot (so each is SVG and PNG): line and scatter plots with
+// shaded bands, grouped bar charts with per-category markers, and panels of plots under one
+// title. Axes get "nice" ticks (axis_frame.h); NaN points break lines.
 #pragma once
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "renderer/plot/vector_plot.h"
+
 namespace ofl {
 
 struct PlotSeries {
   std::vector<double> x, y;
-  std::string color = "#1f77b4";
+  Rgba color = rgb_hex(0x1f77b4);
   double width = 1.5;
   double opacity = 1.0;
   bool dashed = false;
@@ -20,7 +23,7 @@ struct PlotSeries {
 
 struct PlotBand {
   std::vector<double> x, lo, hi;
-  std::string color = "#999999";
+  Rgba color = rgb_hex(0x999999);
   double opacity = 0.25;
   std::string label;
 };
@@ -37,18 +40,16 @@ struct Plot {
 struct BarChart {
   std::string title, ylabel;
   std::vector<std::string> categories;
-  std::vector<std::string> series_names, colors;
+  std::vector<std::string> series_names;
+  std::vector<Rgba> colors;                 // per series (palette.h when missing)
   std::vector<std::vector<double>> values;  // [series][category]
   std::vector<double> markers;              // optional per-category marker (e.g. a threshold), NaN = none
   std::string marker_label;
 };
 
-std::string svg_plot(const Plot& p, double width = 720, double height = 420);
-std::string svg_bars(const BarChart& b, double width = 720, double height = 420);
+VectorPlot line_chart(const Plot& p, int width = 720, int height = 420);
+VectorPlot bar_chart(const BarChart& b, int width = 720, int height = 420);
 // Panels laid out in `cols` columns, each panel_w x panel_h, with an overall title.
-std::string svg_panels(const std::vector<Plot>& plots, int cols, double panel_w, double panel_h, const std::string& title);
-
-// A colour from a fixed qualitative palette.
-std::string palette(int i);
+VectorPlot chart_panels(const std::vector<Plot>& plots, int cols, int panel_w, int panel_h, const std::string& title);
 
 }  // namespace ofl

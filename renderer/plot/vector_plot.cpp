@@ -1,4 +1,4 @@
-#include "renderer/analysis/vector_plot.h"
+#include "renderer/plot/vector_plot.h"
 
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imagebufalgo.h>
@@ -61,8 +61,9 @@ void VectorPlot::rect(double x, double y, double w, double h, Rgba fill, Rgba st
   polygon({{x, y}, {x + w, y}, {x + w, y + h}, {x, y + h}}, fill, stroke, sw);
 }
 
-void VectorPlot::text(Point2 at, const std::string& s, double size, Rgba color, TextAnchor anchor) {
+void VectorPlot::text(Point2 at, const std::string& s, double size, Rgba color, TextAnchor anchor, double rotate_deg) {
   Item it;
+  it.rotate_deg = rotate_deg;
   it.kind = Item::kText;
   it.pts = {at};
   it.stroke = color;
@@ -151,7 +152,10 @@ std::string VectorPlot::to_svg() const {
       case Item::kText: {
         const char* anchor = it.anchor == TextAnchor::kStart ? "start" : it.anchor == TextAnchor::kMiddle ? "middle" : "end";
         s << "<text x=\"" << it.pts[0][0] << "\" y=\"" << it.pts[0][1] << "\" font-size=\"" << it.size
-          << "\" text-anchor=\"" << anchor << "\"" << paint("fill", it.stroke) << clip << ">" << svg_escape(it.text)
+          << "\" text-anchor=\"" << anchor << "\"" << paint("fill", it.stroke);
+        if (it.rotate_deg != 0)
+          s << " transform=\"rotate(" << it.rotate_deg << " " << it.pts[0][0] << " " << it.pts[0][1] << ")\"";
+        s << clip << ">" << svg_escape(it.text)
           << "</text>\n";
         break;
       }
@@ -163,6 +167,14 @@ std::string VectorPlot::to_svg() const {
 
 void VectorPlot::write_svg(const std::filesystem::path& file) const {
   write_file_atomic(file, to_svg());
+}
+
+bool VectorPlot::write_svg_and_png(const std::filesystem::path& stem) const {
+  auto svg = stem, png = stem;
+  svg += ".svg";
+  png += ".png";
+  write_svg(svg);
+  return write_png(png);
 }
 
 // ---------------------------------------------------------------------------------------------- PNG
@@ -258,6 +270,131 @@ std::string find_font() {
 
 }  // namespace
 
+namespace {
+
+// A polyline dashed 4 w on, 3 w off along its length. The dash state is carried along explicitly:
+// recomputing it with fmod at every step can land a hair short of a dash boundary and then advance
+// by less than one ulp forever.
+void stroke_dashed(Canvas& cv, const std::vector<Point2>& pts, const Rgba& color, double width, const ClipRect& clip) {
+  const double on = 4 * width, off = 3 * width, period = on + off;
+  double pos = 0;  // distance along the polyline where the segment starts
+  for (size_t i = 0; i + 1 < pts.size(); ++i) {
+    Point2 a = pts[i], b = pts[i + 1];
+    double len = std::hypot(b[0] - a[0], b[1] - a[1]);
+    if (!(len > 0) || !std::isfinite(len)) continue;
+    // Only the part of the segment over the canvas is dashed (Liang-Barsky): a line that runs
+    // far off the picture (a zoomed plot) would otherwise cost one dash per 7 w of its length.
+    double m = width + 2, lo = 0, hi = len;
+    auto clip_axis = [&](double p0, double d, double min_v, double max_v) {
+      double dir = d / len;
+      if (std::fabs(dir) < 1e-15) {
+        if (p0 < min_v || p0 > max_v) hi = -1;
+        return;
+      }
+      double t0 = (min_v - p0) / dir, t1 = (max_v - p0) / dir;
+      if (t0 > t1) std::swap(t0, t1);
+      lo = std::max(lo, t0);
+      hi = std::min(hi, t1);
+    };
+    clip_axis(a[0], b[0] - a[0], -m, cv.w + m);
+    clip_axis(a[1], b[1] - a[1], -m, cv.h + m);
+    if (hi > lo) {
+      double phase = std::fmod(pos + lo, period);
+      bool drawing = phase < on;
+      double left = drawing ? on - phase : period - phase;
+      for (double t = lo; t < hi;) {
+        double step = std::min(left, hi - t);
+        if (drawing && step > 0)
+          stroke(cv, {{a[0] + (b[0] - a[0]) * t / len, a[1] + (b[1] - a[1]) * t / len},
+                      {a[0] + (b[0] - a[0]) * (t + step) / len, a[1] + (b[1] - a[1]) * (t + step) / len}},
+                 color, width, clip);
+        t += step;
+        left -= step;
+        if (left <= 1e-9 * period) {  // next dash or gap: a full length, so t always moves on
+          drawing = !drawing;
+          left = drawing ? on : off;
+        }
+        if (step <= 0) break;
+      }
+    }
+    pos += len;
+  }
+}
+
+// A filled and/or outlined polygon.
+void draw_polygon(Canvas& cv, const std::vector<Point2>& pts, const Rgba& fill, const Rgba& stroke_color, double width,
+                  const ClipRect& clip) {
+  if (fill.a > 0) fill_polygon(cv, pts, fill, clip);
+  if (width > 0) {
+    auto closed = pts;
+    closed.push_back(pts.front());
+    stroke(cv, closed, stroke_color, width, clip);
+  }
+}
+
+// A filled and/or outlined circle.
+void draw_circle(Canvas& cv, const Point2& c, double radius, const Rgba& fill, const Rgba& stroke_color, double width,
+                 const ClipRect& clip) {
+  if (fill.a > 0) fill_disc(cv, c, radius, fill, clip);
+  if (width > 0) {
+    std::vector<Point2> ring;
+    for (int k = 0; k <= 48; ++k) {
+      double a = 2 * 3.14159265358979 * k / 48;
+      ring.push_back({c[0] + radius * std::cos(a), c[1] + radius * std::sin(a)});
+    }
+    stroke(cv, ring, stroke_color, width, clip);
+  }
+}
+
+// Rotated text: the glyphs' coverage rendered upright into a buffer of their own, then resampled
+// (bilinear) onto the canvas turned by `deg` about the anchor point. False when it failed.
+bool draw_rotated_text(Canvas& cv, const Point2& at, const std::string& text, double size, const Rgba& color, TextAnchor anchor,
+                       double deg, const std::string& font, const ClipRect& clip) {
+  const int px = static_cast<int>(std::lround(size));
+  OIIO::ROI ext = OIIO::ImageBufAlgo::text_size(text, px, font);
+  if (!ext.defined()) return false;
+  const int pad = 2, ox = pad - ext.xbegin, oy = pad - ext.ybegin;  // the baseline origin in the buffer
+  const int bw = ext.width() + 2 * pad, bh = ext.height() + 2 * pad;
+  OIIO::ImageBuf glyphs(OIIO::ImageSpec(bw, bh, 1, OIIO::TypeDesc::FLOAT));
+  OIIO::ImageBufAlgo::zero(glyphs);
+  const float one[1] = {1.0f};
+  if (!OIIO::ImageBufAlgo::render_text(glyphs, ox, oy, text, px, font, one)) return false;
+  std::vector<float> cov(static_cast<size_t>(bw) * bh);
+  glyphs.get_pixels(OIIO::ROI(0, bw, 0, bh, 0, 1, 0, 1), OIIO::TypeDesc::FLOAT, cov.data());
+  // The anchor along the baseline, in buffer coordinates.
+  double ax = ox + (anchor == TextAnchor::kStart ? ext.xbegin : anchor == TextAnchor::kMiddle ? 0.5 * (ext.xbegin + ext.xend) : ext.xend);
+  double ay = oy;
+  const double t = deg * 3.14159265358979323846 / 180.0, c = std::cos(t), s = std::sin(t);
+  // Canvas bounding box of the turned buffer.
+  double x0 = 1e300, y0 = 1e300, x1 = -1e300, y1 = -1e300;
+  for (double u : {0.0, double(bw)})
+    for (double v : {0.0, double(bh)}) {
+      double dx = u - ax, dy = v - ay;
+      double X = at[0] + dx * c - dy * s, Y = at[1] + dx * s + dy * c;
+      x0 = std::min(x0, X); x1 = std::max(x1, X);
+      y0 = std::min(y0, Y); y1 = std::max(y1, Y);
+    }
+  auto sample = [&](double u, double v) {  // bilinear, zero outside
+    int iu = static_cast<int>(std::floor(u - 0.5)), iv = static_cast<int>(std::floor(v - 0.5));
+    double fu = u - 0.5 - iu, fv = v - 0.5 - iv, acc = 0;
+    for (int k = 0; k < 4; ++k) {
+      int uu = iu + (k & 1), vv = iv + (k >> 1);
+      if (uu < 0 || vv < 0 || uu >= bw || vv >= bh) continue;
+      acc += cov[static_cast<size_t>(vv) * bw + uu] * ((k & 1) ? fu : 1 - fu) * ((k >> 1) ? fv : 1 - fv);
+    }
+    return acc;
+  };
+  for (int y = std::max(0, static_cast<int>(std::floor(y0))); y <= std::min(cv.h - 1, static_cast<int>(std::ceil(y1))); ++y)
+    for (int x = std::max(0, static_cast<int>(std::floor(x0))); x <= std::min(cv.w - 1, static_cast<int>(std::ceil(x1))); ++x) {
+      double dx = x + 0.5 - at[0], dy = y + 0.5 - at[1];
+      double u = ax + dx * c + dy * s, v = ay - dx * s + dy * c;  // the inverse turn
+      cv.blend(x, y, color, sample(u, v), clip);
+    }
+  return true;
+}
+
+}  // namespace
+
 bool VectorPlot::write_png(const std::filesystem::path& file) const {
   Canvas cv{width_, height_, std::vector<float>(static_cast<size_t>(width_) * height_ * 3)};
   for (size_t i = 0; i < cv.rgb.size(); i += 3) {
@@ -280,11 +417,11 @@ bool VectorPlot::write_png(const std::filesystem::path& file) const {
     buf_current = false;
   };
   for (const auto& it : items_) {
-    if (it.kind == Item::kText) {
-      if (font.empty()) {
-        text_ok = false;
-        continue;
-      }
+    if (it.kind == Item::kText && font.empty()) {
+      text_ok = false;
+      continue;
+    }
+    if (it.kind == Item::kText && it.rotate_deg == 0) {
       if (!buf_current) to_buf();
       float col[3] = {it.stroke.r, it.stroke.g, it.stroke.b};
       auto ax = it.anchor == TextAnchor::kStart ? OIIO::ImageBufAlgo::TextAlignX::Left
@@ -300,78 +437,14 @@ bool VectorPlot::write_png(const std::filesystem::path& file) const {
     if (buf_current) from_buf();
     switch (it.kind) {
       case Item::kPolyline:
-        if (it.dashed) {
-          // Dashes 4 w long with 3 w gaps along the polyline. The dash state is carried along
-          // explicitly: recomputing it with fmod at every step can land a hair short of a dash
-          // boundary and then advance by less than one ulp forever.
-          const double on = 4 * it.width, off = 3 * it.width, period = on + off;
-          double pos = 0;  // distance along the polyline where the segment starts
-          for (size_t i = 0; i + 1 < it.pts.size(); ++i) {
-            Point2 a = it.pts[i], b = it.pts[i + 1];
-            double len = std::hypot(b[0] - a[0], b[1] - a[1]);
-            if (!(len > 0) || !std::isfinite(len)) continue;
-            // Only the part of the segment over the canvas is dashed (Liang-Barsky): a line that runs
-            // far off the picture (a zoomed plot) would otherwise cost one dash per 7 w of its length.
-            double m = it.width + 2, lo = 0, hi = len;
-            auto clip_axis = [&](double p0, double d, double min_v, double max_v) {
-              double dir = d / len;
-              if (std::fabs(dir) < 1e-15) {
-                if (p0 < min_v || p0 > max_v) hi = -1;
-                return;
-              }
-              double t0 = (min_v - p0) / dir, t1 = (max_v - p0) / dir;
-              if (t0 > t1) std::swap(t0, t1);
-              lo = std::max(lo, t0);
-              hi = std::min(hi, t1);
-            };
-            clip_axis(a[0], b[0] - a[0], -m, cv.w + m);
-            clip_axis(a[1], b[1] - a[1], -m, cv.h + m);
-            if (hi > lo) {
-              double phase = std::fmod(pos + lo, period);
-              bool drawing = phase < on;
-              double left = drawing ? on - phase : period - phase;
-              for (double t = lo; t < hi;) {
-                double step = std::min(left, hi - t);
-                if (drawing && step > 0)
-                  stroke(cv, {{a[0] + (b[0] - a[0]) * t / len, a[1] + (b[1] - a[1]) * t / len},
-                              {a[0] + (b[0] - a[0]) * (t + step) / len, a[1] + (b[1] - a[1]) * (t + step) / len}},
-                         it.stroke, it.width, it.clip);
-                t += step;
-                left -= step;
-                if (left <= 1e-9 * period) {  // next dash or gap: a full length, so t always moves on
-                  drawing = !drawing;
-                  left = drawing ? on : off;
-                }
-                if (step <= 0) break;
-              }
-            }
-            pos += len;
-          }
-        } else {
-          stroke(cv, it.pts, it.stroke, it.width, it.clip);
-        }
+        if (it.dashed) stroke_dashed(cv, it.pts, it.stroke, it.width, it.clip);
+        else stroke(cv, it.pts, it.stroke, it.width, it.clip);
         break;
-      case Item::kPolygon: {
-        if (it.fill.a > 0) fill_polygon(cv, it.pts, it.fill, it.clip);
-        if (it.width > 0) {
-          auto closed = it.pts;
-          closed.push_back(it.pts.front());
-          stroke(cv, closed, it.stroke, it.width, it.clip);
-        }
+      case Item::kPolygon: draw_polygon(cv, it.pts, it.fill, it.stroke, it.width, it.clip); break;
+      case Item::kCircle: draw_circle(cv, it.pts[0], it.radius, it.fill, it.stroke, it.width, it.clip); break;
+      case Item::kText:
+        if (!draw_rotated_text(cv, it.pts[0], it.text, it.size, it.stroke, it.anchor, it.rotate_deg, font, it.clip)) text_ok = false;
         break;
-      }
-      case Item::kCircle:
-        if (it.fill.a > 0) fill_disc(cv, it.pts[0], it.radius, it.fill, it.clip);
-        if (it.width > 0) {
-          std::vector<Point2> ring;
-          for (int k = 0; k <= 48; ++k) {
-            double a = 2 * 3.14159265358979 * k / 48;
-            ring.push_back({it.pts[0][0] + it.radius * std::cos(a), it.pts[0][1] + it.radius * std::sin(a)});
-          }
-          stroke(cv, ring, it.stroke, it.width, it.clip);
-        }
-        break;
-      case Item::kText: break;
     }
   }
   if (buf_current) from_buf();

@@ -1,4 +1,4 @@
-#include "renderer/analysis/plot_axis.h"
+#include "renderer/plot/plot_axis.h"
 
 #include <algorithm>
 #include <cmath>
