@@ -21,40 +21,30 @@ Rgba rgb_hex(unsigned hex, float alpha) {
 
 VectorPlot::VectorPlot(int w, int h, Rgba bg) : width_(w), height_(h), background_(bg) {}
 
+VectorPlot::Item& VectorPlot::add(Item::Kind kind, std::vector<Point2> pts, Rgba stroke, double width) {
+  Item& it = items_.emplace_back();
+  it.kind = kind;
+  it.pts = std::move(pts);
+  it.stroke = stroke;
+  it.width = width;
+  it.clip = clip_;
+  return it;
+}
+
 void VectorPlot::polyline(const std::vector<Point2>& pts, Rgba color, double width, bool dashed) {
   if (pts.size() < 2) return;
-  Item it;
-  it.kind = Item::kPolyline;
-  it.pts = pts;
-  it.stroke = color;
-  it.width = width;
-  it.dashed = dashed;
-  it.clip = clip_;
-  items_.push_back(std::move(it));
+  add(Item::kPolyline, pts, color, width).dashed = dashed;
 }
 
 void VectorPlot::polygon(const std::vector<Point2>& pts, Rgba fill, Rgba stroke, double sw) {
   if (pts.size() < 3) return;
-  Item it;
-  it.kind = Item::kPolygon;
-  it.pts = pts;
-  it.stroke = stroke;
-  it.fill = fill;
-  it.width = sw;
-  it.clip = clip_;
-  items_.push_back(std::move(it));
+  add(Item::kPolygon, pts, stroke, sw).fill = fill;
 }
 
 void VectorPlot::circle(Point2 c, double r, Rgba fill, Rgba stroke, double sw) {
-  Item it;
-  it.kind = Item::kCircle;
-  it.pts = {c};
-  it.stroke = stroke;
+  Item& it = add(Item::kCircle, {c}, stroke, sw);
   it.fill = fill;
-  it.width = sw;
   it.radius = r;
-  it.clip = clip_;
-  items_.push_back(std::move(it));
 }
 
 void VectorPlot::rect(double x, double y, double w, double h, Rgba fill, Rgba stroke, double sw) {
@@ -62,16 +52,11 @@ void VectorPlot::rect(double x, double y, double w, double h, Rgba fill, Rgba st
 }
 
 void VectorPlot::text(Point2 at, const std::string& s, double size, Rgba color, TextAnchor anchor, double rotate_deg) {
-  Item it;
+  Item& it = add(Item::kText, {at}, color, 0.0);
   it.rotate_deg = rotate_deg;
-  it.kind = Item::kText;
-  it.pts = {at};
-  it.stroke = color;
   it.size = size;
   it.text = s;
   it.anchor = anchor;
-  it.clip = clip_;
-  items_.push_back(std::move(it));
 }
 
 // ---------------------------------------------------------------------------------------------- SVG

@@ -63,6 +63,8 @@ class VectorPlot {
     TextAnchor anchor = TextAnchor::kStart;
     ClipRect clip;
   };
+  // A new item of the drawing list with the current clip.
+  Item& add(Item::Kind kind, std::vector<Point2> pts, Rgba stroke, double width);
   int width_, height_;
   Rgba background_;
   ClipRect clip_;

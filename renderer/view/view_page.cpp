@@ -6,6 +6,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "renderer/plot/vector_plot.h"
 #include "renderer/spectral/color.h"
 #include "renderer/view/view_assets.h"
 
@@ -134,18 +135,6 @@ std::string image_section(const ViewImage& im, int index, const ViewOptions& o, 
   return html;
 }
 
-std::string escape_html(const std::string& s) {
-  std::string out;
-  for (char ch : s) {
-    if (ch == '<') out += "&lt;";
-    else if (ch == '>') out += "&gt;";
-    else if (ch == '&') out += "&amp;";
-    else if (ch == '"') out += "&quot;";
-    else out += ch;
-  }
-  return out;
-}
-
 }  // namespace
 
 uint16_t float_to_half(float f) {
@@ -201,7 +190,7 @@ std::string view_page_html(const std::vector<ViewImage>& images, const ViewOptio
   // Inside a script element "</" would end it: JSON strings may hold it (file names).
   for (size_t p = json.find("</"); p != std::string::npos; p = json.find("</", p + 2)) json.replace(p, 2, "<\\/");
   return std::string("<!doctype html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n<title>oralfluor view: ") +
-         escape_html(title) + "</title>\n<style>" + view_style() + "</style></head>\n<body>\n" + view_body() +
+         svg_escape(title) + "</title>\n<style>" + view_style() + "</style></head>\n<body>\n" + view_body() +
          "<script type=\"application/json\" id=\"ofl-meta\">" + json + "</script>\n" + blobs + "<script>" +
          view_script() + "</script>\n</body></html>\n";
 }
