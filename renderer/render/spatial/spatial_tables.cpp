@@ -99,11 +99,17 @@ void fill_excitation_legs(const StackTables& st, const std::vector<std::vector<f
       for (int ex = 0; ex < n; ++ex) absorb[size_t(b) * n + ex] += f.absorb[ex];
   s.ex_mass.assign(size_t(s.G) * C * Z * R, 0.0f);
   s.ex_cdf.assign(size_t(s.G) * C * Z * R, 1.0f);
+  s.ex_fluence.assign(size_t(s.G) * C * Z, 0.0f);
   std::vector<double> w(n), t(R);
   for (int g = 0; g < s.G; ++g)
     for (int c = 0; c < C; ++c)
       for (int z = 0; z < Z; ++z) {
-        double wsum = 0;
+        double wsum = 0, photons = 0, fluence = 0;
+        for (int ex = 0; ex < n; ++ex) {
+          photons += shapes[g][ex];
+          fluence += shapes[g][ex] * p.leg_fluence[(size_t(c) * n + ex) * Z + z];
+        }
+        s.ex_fluence[(size_t(g) * C + c) * Z + z] = photons > 0 ? float(fluence / photons) : 0.0f;
         for (int ex = 0; ex < n; ++ex) {
           double a = 0;
           for (int b = 0; b < B; ++b)
@@ -176,6 +182,20 @@ double SpatialStack::excitation_density(int g, const Cosines& cw, int z, double 
   return d;
 }
 
+double SpatialStack::emission_fluence(const Cosines& cw, int em, int z) const {
+  double v = 0;
+  for (int a = 0; a < 2; ++a)
+    if (cw.w[a] > 0) v += cw.w[a] * prof->leg_fluence[(size_t(cw.c[a]) * n + em) * Z + z];
+  return v;
+}
+
+double SpatialStack::excitation_fluence(int g, const Cosines& cw, int z) const {
+  double v = 0;
+  for (int a = 0; a < 2; ++a)
+    if (cw.w[a] > 0) v += cw.w[a] * ex_fluence[(size_t(g) * C + cw.c[a]) * Z + z];
+  return v;
+}
+
 std::shared_ptr<const SpatialStack> build_spatial_stack(const StackTables& st, std::shared_ptr<const StackProfiles> prof,
                                                         const std::vector<std::vector<float>>& light_shapes) {
   if (!prof) return nullptr;
@@ -195,7 +215,7 @@ std::shared_ptr<const SpatialStack> build_spatial_stack(const StackTables& st, s
   cut_profiles(prof->elastic_mass, n_el, RE, prof->elastic_rings.ring_of(s->search_mm * (1 - 1e-12)) + 1, s->el_mass, s->el_cdf);
   cut_profiles(prof->leg_mass, n_leg, RL, prof->leg_rings.ring_of(s->search_mm * (1 - 1e-12)) + 1, s->leg_mass, s->leg_cdf);
   fill_slice_weights(st, shapes, *s);
-  if (s->fluorescent) fill_excitation_legs(st, shapes, *s);
+  fill_excitation_legs(st, shapes, *s);
   densities(s->el_mass, prof->elastic_rings, s->el_dens);
   densities(s->leg_mass, prof->leg_rings, s->leg_dens);
   densities(s->ex_mass, prof->leg_rings, s->ex_dens);

@@ -31,8 +31,11 @@ struct SpatialStack {
   // Direct-fluorescence depth weights c(Z): [(((g * C + co) * C + ci) * n + em) * Z + z] and their
   // sums over Z at [((g * C + co) * C + ci) * n + em].
   std::vector<float> slice_c, slice_total;
-  // Excitation legs per LED group: [((g * C + c) * Z + z) * R_leg + j].
-  std::vector<float> ex_mass, ex_cdf;
+  // Excitation legs per LED group: [((g * C + c) * Z + z) * R_leg + j]; filled for every stack (one
+  // that does not fluoresce still attenuates the excitation light crossing it), and the LED light's
+  // fluence in each slice (mm per unit irradiance, the photon-weighted mean over the LED's bins) at
+  // [(g * C + c) * Z + z].
+  std::vector<float> ex_mass, ex_cdf, ex_fluence;
   // The same three as densities per unit area (mass / ring area, 1/mm^2), for evaluation.
   std::vector<float> el_dens, leg_dens, ex_dens;
   bool fluorescent = false;
@@ -65,6 +68,12 @@ struct SpatialStack {
            (co.w[1] > 0 ? co.w[1] * leg_dens[leg_at(co.c[1], em, z) + ring] : 0.0);
   }
   double excitation_density(int g, const Cosines& ci, int z, double r_mm) const;
+  // The fluence in slice z (mm per unit irradiance) of the viewer's emission-band light (the
+  // emission leg's amplitude) and of LED group g's light (the excitation leg's); with the densities
+  // above they are the legs' Green's functions, which a crossing of regions compares between
+  // materials (renderer/render/spatial/spatial_vertex.cpp, fluorescent_crossing).
+  double emission_fluence(const Cosines& co, int em, int z) const;
+  double excitation_fluence(int g, const Cosines& ci, int z) const;
 };
 
 // Prepares the spatial tables of a stack (null when it has no profiles to build them from).

@@ -76,6 +76,15 @@ struct SpatialTransport::Vertex {
   double w_o = 1;
 };
 
+// The materials along a segment between two surface points and the share of the segment in each
+// (docs/layered-tissue.md, "Regions and lateral transport").
+struct SpatialTransport::Chord {
+  static constexpr int kMax = 4;
+  int n = 0;
+  int material[kMax] = {};
+  double share[kMax] = {};
+};
+
 struct SpatialTransport::Entry {
   bool found = false;
   bool fluorescent = false;
@@ -88,11 +97,9 @@ struct SpatialTransport::Entry {
   int z = 0;                    // fluorescent: depth slice
   double rho_m = 0, rho_i = 0;  // fluorescent: x_o to x_m (planar), x_m to x_i (mm)
   double pdf_m = 0, pdf_i = 0;  // fluorescent: densities of (Z, x_m) and of x_i given x_m
-  // elastic: the materials along the segment x_o -> x_i and the share of the segment in each.
-  static constexpr int kMaxChord = 4;
-  int chord_n = 0;
-  int chord_material[kMaxChord] = {};
-  double chord_share[kMaxChord] = {};
+  // The materials along the segment x_o -> x_i (elastic) or x_o -> x_m (fluorescent: the emission
+  // leg), and along x_m -> x_i (fluorescent: the excitation leg).
+  Chord chord, ex_chord;
 };
 
 // The segment between x_o and x_i is read at this many points (the midpoints of equal parts).
@@ -237,34 +244,34 @@ SpatialTransport::Entry SpatialTransport::sample_elastic(Vertex& v, Rng& rng, Ra
   if (!spatial_material(mi) || !(e.pdf > 0)) return e;
   e.material = mi;
   e.found = true;
-  chord_materials(v, e);
+  chord_materials(v, v.xo, e.xi, e.chord);
   return e;
 }
 
-// The materials along the segment from x_o to x_i and the share of the segment in each
+// The materials along the segment from a to b and the share of the segment in each
 // (docs/layered-tissue.md, "Regions and lateral transport"): the segment's points, with position
 // and texture coordinates interpolated between its ends, resolved as the surface resolves its
-// `regions`. Without regions the segment is x_o's material.
-void SpatialTransport::chord_materials(const Vertex& v, Entry& e) const {
+// `regions`. Without regions the segment is a's material.
+void SpatialTransport::chord_materials(const Vertex& v, const SurfacePoint& a, const SurfacePoint& b, Chord& c) const {
   const int base = embree_.info(v.geom).material;
-  e.chord_n = 1;
-  e.chord_material[0] = v.xo.material;
-  e.chord_share[0] = 1.0;
+  c.n = 1;
+  c.material[0] = a.material;
+  c.share[0] = 1.0;
   if (base < 0 || !scene_.materials[base].dispatches()) return;
-  e.chord_share[0] = 0.0;
+  c.share[0] = 0.0;
   for (int s = 0; s < kChordPoints; ++s) {
     const double t = (s + 0.5) / kChordPoints;
-    const glm::dvec3 p = v.xo.p + t * (e.xi.p - v.xo.p);
-    const glm::vec2 uv = v.xo.uv + float(t) * (e.xi.uv - v.xo.uv);
+    const glm::dvec3 p = a.p + t * (b.p - a.p);
+    const glm::vec2 uv = a.uv + float(t) * (b.uv - a.uv);
     int m = resolve_material(scene_, base, uv.x, uv.y, p);
-    if (!spatial_material(m)) m = v.xo.material;
+    if (!spatial_material(m)) m = a.material;
     int j = 0;
-    while (j < e.chord_n && e.chord_material[j] != m) ++j;
-    if (j == e.chord_n) {
-      if (j == Entry::kMaxChord) j = 0;  // a fifth material: counted as x_o's
-      else e.chord_material[e.chord_n++] = m;
+    while (j < c.n && c.material[j] != m) ++j;
+    if (j == c.n) {
+      if (j == Chord::kMax) j = 0;  // a fifth material: counted as a's
+      else c.material[c.n++] = m;
     }
-    e.chord_share[j] += 1.0 / kChordPoints;
+    c.share[j] += 1.0 / kChordPoints;
   }
 }
 
@@ -337,6 +344,10 @@ SpatialTransport::Entry SpatialTransport::sample_fluorescent(Vertex& v, Rng& rng
   e.pdf_i = probe_density(xm.p, fm, e.xi, pr.hits, [&](double rr) { return Sm.excitation_density(v.group, v.ci_proxy, z, rr); });
   e.rho_i = glm::length(e.xi.p - xm.p) * kMmPerMetre;
   e.found = spatial_material(e.xi.material) && e.pdf_m > 0 && e.pdf_i > 0;
+  if (e.found) {
+    chord_materials(v, v.xo, xm, e.chord);
+    chord_materials(v, xm, e.xi, e.ex_chord);
+  }
   return e;
 }
 
@@ -354,13 +365,50 @@ void SpatialTransport::elastic_values(const Vertex& v, const Entry& e, double mu
     for (int k = 0; k < kLanes; ++k)
       out[k] = v.p.beta[k] == 0 ? 0.0 : R.elastic_at(a, b, v.p.wl[k]) * S.elastic_density(v.co, v.p.wl[k], e.r_mm);
   };
-  if (e.chord_n == 1) return one(t_.materials[e.chord_material[0]], f);
+  const Chord& c = e.chord;
+  if (c.n == 1) return one(t_.materials[c.material[0]], f);
   double g[kLanes];
   for (int k = 0; k < kLanes; ++k) f[k] = 1.0;
-  for (int j = 0; j < e.chord_n; ++j) {
-    if (!(e.chord_share[j] > 0)) continue;
-    one(t_.materials[e.chord_material[j]], g);
-    for (int k = 0; k < kLanes; ++k) f[k] *= std::pow(g[k], e.chord_share[j]);
+  for (int j = 0; j < c.n; ++j) {
+    if (!(c.share[j] > 0)) continue;
+    one(t_.materials[c.material[j]], g);
+    for (int k = 0; k < kLanes; ++k) f[k] *= std::pow(g[k], c.share[j]);
+  }
+}
+
+// Per lane, the factor by which the materials the fluorescence's two legs cross change what the
+// emission point's material alone gives (docs/layered-tissue.md, "Regions and lateral transport"):
+// each leg's Green's function (its slice's fluence times its lateral density) of every crossed
+// material over the emission point's, raised to the crossed share of the leg: the emission leg
+// x_m -> x_o at the lane's wavelength and the viewer's cosine, the excitation leg x_i -> x_m at LED
+// group `group`'s light and the light's cosine mu_i at the entry. One where the legs stay in x_m's
+// material.
+void SpatialTransport::fluorescent_crossing(const Vertex& v, const Entry& e, int group, double mu_i, double* out) const {
+  for (int k = 0; k < kLanes; ++k) out[k] = 1.0;
+  const SpatialStack& Sm = *t_.materials[e.material].stack.spatial;
+  const auto co_m = Sm.cosines(v.mu_o), ci_m = Sm.cosines(mu_i);
+  const double ex_m = Sm.excitation_fluence(group, ci_m, e.z) * Sm.excitation_density(group, ci_m, e.z, e.rho_i);
+  for (int j = 0; j < e.ex_chord.n; ++j) {
+    const int mj = e.ex_chord.material[j];
+    if (mj == e.material || !(e.ex_chord.share[j] > 0)) continue;
+    const SpatialStack& Sj = *t_.materials[mj].stack.spatial;
+    const auto ci = Sj.cosines(mu_i);
+    const double ex = Sj.excitation_fluence(group, ci, e.z) * Sj.excitation_density(group, ci, e.z, e.rho_i);
+    const double ratio = ex_m > 0 ? std::pow(ex / ex_m, e.ex_chord.share[j]) : 0.0;
+    for (int k = 0; k < kLanes; ++k) out[k] *= ratio;
+  }
+  for (int j = 0; j < e.chord.n; ++j) {
+    const int mj = e.chord.material[j];
+    if (mj == e.material || !(e.chord.share[j] > 0)) continue;
+    const SpatialStack& Sj = *t_.materials[mj].stack.spatial;
+    const auto co = Sj.cosines(v.mu_o);
+    for (int k = 0; k < kLanes; ++k) {
+      if (v.p.beta[k] == 0 || out[k] == 0) continue;
+      const int em = v.p.wl[k];
+      const double own = Sm.emission_fluence(co_m, em, e.z) * Sm.emission_density(co_m, em, e.z, e.rho_m);
+      const double other = Sj.emission_fluence(co, em, e.z) * Sj.emission_density(co, em, e.z, e.rho_m);
+      out[k] *= own > 0 ? std::pow(other / own, e.chord.share[j]) : 0.0;
+    }
   }
 }
 
@@ -417,6 +465,11 @@ void SpatialTransport::entry_light(Vertex& v, Entry& e, RayCounts& counts, RayLo
   }
   fluorescent_values(v, t_.materials[e.material], e, ls, e.rho_i, f);
   fluorescent_values(v, v.mt, e, lo, e.rho_i, h);
+  if (ls.valid) {
+    double x[kLanes];
+    fluorescent_crossing(v, e, ls.group, ls.wi.z, x);
+    for (int k = 0; k < kLanes; ++k) f[k] *= x[k];
+  }
   for (int k = 0; k < kLanes; ++k) {
     const double add = v.p.beta[k] * (f[k] - h[k]) / (e.pdf_m * e.pdf_i * e.q_nee);
     v.p.L[k] += float(add);
@@ -441,6 +494,7 @@ SpatialScatter SpatialTransport::continue_at_entry(Vertex& v, Entry& e, Rng& rng
   const double legs = e.fluorescent ? S.excitation_density(v.group, ci, e.z, e.rho_i) / (e.pdf_m * e.pdf_i) : 0.0;
   double fe[kLanes];
   if (!e.fluorescent) elastic_values(v, e, wi.z, fe);
+  else fluorescent_crossing(v, e, v.group, wi.z, fe);
   bool any = false;
   for (int k = 0; k < kLanes; ++k) {
     if (v.p.beta[k] == 0) continue;
@@ -453,7 +507,7 @@ SpatialScatter SpatialTransport::continue_at_entry(Vertex& v, Entry& e, Rng& rng
       const double total = S.slice_sum(v.group, v.co, ci, em);
       if (total > 0)
         f = R.fluor_sum_at(a, b, em) * S.slice_weight(v.group, v.co, ci, em, e.z) / total *
-            S.emission_density(v.co, em, e.z, e.rho_m) * legs;
+            S.emission_density(v.co, em, e.z, e.rho_m) * legs * fe[k];
       if (f > 0) {
         v.p.wl[k] = R.sample_excitation(a, b, em, rng.next_double(), rng.next_float());
         v.p.fl[k] = true;

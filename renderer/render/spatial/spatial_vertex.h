@@ -58,6 +58,7 @@ class SpatialTransport {
  private:
   struct Vertex;
   struct Entry;
+  struct Chord;
   // The probabilities of running each subsurface strategy's next-event estimation (beyond the one the
   // path continues from) and of continuing from the fluorescent strategy's entry.
   struct Plan {
@@ -69,10 +70,11 @@ class SpatialTransport {
   void top_light(Vertex& v) const;
   Entry sample_elastic(Vertex& v, Rng& rng, RayCounts& counts) const;
   Entry sample_fluorescent(Vertex& v, Rng& rng, RayCounts& counts) const;
-  void chord_materials(const Vertex& v, Entry& e) const;
+  void chord_materials(const Vertex& v, const SurfacePoint& a, const SurfacePoint& b, Chord& c) const;
   void elastic_values(const Vertex& v, const Entry& e, double mu_i, double* f) const;
   void fluorescent_values(const Vertex& v, const MaterialTables& m, const Entry& e, const LightSample& ls, double rho_i,
                           double* f) const;
+  void fluorescent_crossing(const Vertex& v, const Entry& e, int group, double mu_i, double* out) const;
   void entry_light(Vertex& v, Entry& e, RayCounts& counts, RayLog* log) const;
   SpatialScatter continue_at_entry(Vertex& v, Entry& e, Rng& rng) const;
   SpatialScatter continue_at_top(Vertex& v, Rng& rng) const;
