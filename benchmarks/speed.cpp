@@ -144,6 +144,11 @@ nlohmann::json measure(const std::string& file, int spp, int threads) {
           {"wavelength_samples_per_second", s.samples_per_second() * kLanes},
           {"rays", s.rays.total()},
           {"rays_per_camera_sample", double(s.rays.total()) / s.camera_samples},
+          {"rays_per_camera_sample_by_kind",
+           {{"camera", double(s.rays.camera) / s.camera_samples},
+            {"extension", double(s.rays.extension) / s.camera_samples},
+            {"shadow", double(s.rays.shadow) / s.camera_samples},
+            {"probe", double(s.rays.probe) / s.camera_samples}}},
           {"rays_per_second", s.rays_per_second()},
           {"embree_intersect_rays_per_second", per_ray.first > 0 ? 1.0 / per_ray.first : 0.0},
           {"embree_occluded_rays_per_second", per_ray.second > 0 ? 1.0 / per_ray.second : 0.0},
@@ -185,6 +190,9 @@ int main(int argc, char** argv) {
                   r["embree_intersect_rays_per_second"].get<double>() * 1e-6, r["embree_occluded_rays_per_second"].get<double>() * 1e-6,
                   100 * r["share_of_time_in_embree"].get<double>());
     if (!json) {
+      const auto& k = r["rays_per_camera_sample_by_kind"];
+      std::printf("  rays per sample by kind: camera %.2f, extension %.2f, shadow %.2f, probe %.2f\n", k["camera"].get<double>(),
+                  k["extension"].get<double>(), k["shadow"].get<double>(), k["probe"].get<double>());
       std::printf("  stages (clock marks, %.0f%% of thread time covered):", 100 * r["stages"]["marked_share_of_thread_time"].get<double>());
       for (auto& st : r["stages"]["shares"]) std::printf(" %s %.1f%%,", st["stage"].get<std::string>().c_str(), 100 * st["share"].get<double>());
       std::printf("\n");
