@@ -125,7 +125,7 @@ json base_scene(const BenchOptions& o, int max_depth, double gmin, double gmax, 
   json j = {{"format", "oralfluor-scene"},
           {"version", 1},
           {"integrator",
-           {{"spp", o.spp}, {"seed", o.seed}, {"max_depth", max_depth}, {"rr_start_depth", 3},
+           {{"spp", o.spp}, {"seed", o.seed}, {"max_depth", max_depth},
             {"direct_excitation", o.sampled_excitation ? "sampled" : "deterministic"},
             {"wavelengths", {{"min_nm", gmin}, {"max_nm", gmax}, {"step_nm", 5}}},
             {"output_bands", {{"min_nm", 400}, {"max_nm", 700}, {"step_nm", band_step}}}}}};

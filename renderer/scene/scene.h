@@ -31,7 +31,7 @@ struct BandSet {
 struct IntegratorSpec {
   int spp = 16;
   int max_depth = 5;          // scattering events per path
-  int rr_start_depth = 3;     // Russian roulette from this depth on
+  int rr_start_depth = 1;     // Russian roulette before continuing from this vertex on (0-based: 1 = the second)
   uint64_t seed = 1;
   WavelengthGrid grid;
   BandSet bands;
