@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <string>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include "renderer/analysis/fluorescence_chart.h"
 #include "renderer/camera/camera_description.h"
@@ -14,9 +15,10 @@
 
 namespace ofl::testing {
 
-// A fresh empty folder under the system temp directory.
+// A fresh empty folder of this process under the system temp directory (with the process id: two
+// test runs on one machine, or two tests of one run in parallel processes, never share one).
 inline std::filesystem::path scratch(const std::string& name) {
-  auto p = std::filesystem::temp_directory_path() / ("ofl_camera_test_" + name);
+  auto p = std::filesystem::temp_directory_path() / ("ofl_camera_test_" + name + "_" + std::to_string(::getpid()));
   std::filesystem::remove_all(p);
   std::filesystem::create_directories(p);
   return p;
