@@ -19,9 +19,6 @@ LAYERS = ["core", "formats", "spectral", "image", "plot", "mesh", "materials", "
           "analysis", "interop", "view", "bench", "sweep", "diagnose", "cli"]
 KNOWN_LOOPS = {
     "renderer/render <-> renderer/render/spatial",
-    "renderer/camera/camera_color <-> renderer/camera/camera_description <-> renderer/camera/camera_pipeline <-> "
-    "renderer/camera/expected_signal <-> renderer/camera/lens_optics <-> renderer/camera/optics <-> "
-    "renderer/camera/raw_preview <-> renderer/camera/sensor_model",
     "renderer/render/albedo_matrix <-> renderer/render/render_tables <-> renderer/render/spatial/spatial_tables <-> "
     "renderer/render/spatial/stack_profiles <-> renderer/render/stack_fill <-> renderer/render/stack_response <-> "
     "renderer/render/stack_response_cache <-> renderer/render/stack_walk",
