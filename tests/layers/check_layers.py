@@ -19,9 +19,6 @@ LAYERS = ["core", "formats", "spectral", "image", "plot", "mesh", "materials", "
           "analysis", "interop", "view", "bench", "sweep", "diagnose", "cli"]
 KNOWN_LOOPS = {
     "renderer/render <-> renderer/render/spatial",
-    "renderer/render/albedo_matrix <-> renderer/render/render_tables <-> renderer/render/spatial/spatial_tables <-> "
-    "renderer/render/spatial/stack_profiles <-> renderer/render/stack_fill <-> renderer/render/stack_response <-> "
-    "renderer/render/stack_response_cache <-> renderer/render/stack_walk",
     "renderer/diagnose/forward_model <-> renderer/diagnose/layered_site <-> renderer/diagnose/render_loop",
 }
 INCLUDE = re.compile(r'^\s*#\s*include\s+"((?:renderer|materials)/[^"]+)"', re.M)
