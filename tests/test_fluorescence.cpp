@@ -9,6 +9,7 @@
 #include "renderer/bench/closed_form_cases.h"
 #include "renderer/core/error.h"
 #include "renderer/render/albedo_matrix.h"
+#include "renderer/render/render_tables.h"
 #include "renderer/scene/scene.h"
 #include "renderer/spectral/fluorophore_library.h"
 #include "tests/cli_runner.h"

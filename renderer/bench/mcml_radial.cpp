@@ -9,6 +9,7 @@
 
 #include "renderer/bench/mcml.h"
 #include "renderer/render/spatial/stack_profiles.h"
+#include "renderer/spectral/units.h"
 
 namespace ofl {
 

@@ -13,7 +13,7 @@
 //     "sensor":  { "pixel_pitch_um": 3.0, "cfa": "RGGB",
 //                  "qe": { "file": "qe.csv", "columns": { "R": "r", "G": "g", "B": "b" } },
 //                  "exposure_s": 0.033, "system_gain_dn_per_e": 0.25, "full_well_e": 10000, ... },
-//     "optics":  { "sensor_pixels": [1280, 800], "focus_distance_mm": 40 },   (optional, optics.h)
+//     "optics":  { "sensor_pixels": [1280, 800], "focus_distance_mm": 40 },   (optional, optics_description.h)
 //     "noise": true,
 //     "seed": 1
 //   }
@@ -27,7 +27,7 @@
 
 #include "renderer/camera/cfa_pattern.h"
 #include "renderer/camera/filter_stack.h"
-#include "renderer/camera/optics.h"
+#include "renderer/camera/optics_description.h"
 #include "renderer/core/json_node.h"
 #include "renderer/spectral/spectrum.h"
 

@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "renderer/camera/camera_color.h"
+#include "renderer/camera/optics.h"
 #include "renderer/core/error.h"
 #include "renderer/core/progress.h"
 #include "renderer/image/image_file.h"
@@ -12,18 +13,6 @@
 #include "renderer/spectral/units.h"
 
 namespace ofl {
-
-std::optional<double> render_vfov_deg(const SpectralImage& img, std::vector<std::string>* warnings) {
-  auto it = img.attributes.find("oralfluor.vfov_deg");
-  if (it == img.attributes.end()) return std::nullopt;
-  char* end = nullptr;
-  double v = std::strtod(it->second.c_str(), &end);
-  if (end == it->second.c_str() || !(v > 0 && v < 180)) {
-    if (warnings) warnings->push_back("ignoring oralfluor.vfov_deg \"" + it->second + "\" (not an angle in (0, 180))");
-    return std::nullopt;
-  }
-  return v;
-}
 
 std::vector<std::string> lost_light_warnings(const SpectralImage& img, const CameraDescription& cam,
                                              std::vector<std::string>* notes) {

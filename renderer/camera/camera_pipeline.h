@@ -59,9 +59,6 @@ std::string exposure_suffix(double exposure_s);
 // "_33.00033ms", not "_33ms" twice). Exposures must be distinct (the caller refuses repeats).
 std::vector<std::string> exposure_suffixes(const std::vector<double>& exposures_s);
 
-// The EXR's oralfluor.vfov_deg, when present and a number.
-std::optional<double> render_vfov_deg(const SpectralImage& radiance, std::vector<std::string>* warnings);
-
 // Warnings for light the image cannot hold: the camera's response outside its bands, and the
 // share of the recorded LED spectrum (oralfluor.excitation_spd) outside them, naming the range.
 // A malformed attribute goes to `notes`.

@@ -2,11 +2,24 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <sstream>
 
 #include "renderer/spectral/units.h"
 
 namespace ofl {
+
+std::optional<double> render_vfov_deg(const SpectralImage& img, std::vector<std::string>* warnings) {
+  auto it = img.attributes.find("oralfluor.vfov_deg");
+  if (it == img.attributes.end()) return std::nullopt;
+  char* end = nullptr;
+  double v = std::strtod(it->second.c_str(), &end);
+  if (end == it->second.c_str() || !(v > 0 && v < 180)) {
+    if (warnings) warnings->push_back("ignoring oralfluor.vfov_deg \"" + it->second + "\" (not an angle in (0, 180))");
+    return std::nullopt;
+  }
+  return v;
+}
 
 double FieldGeometry::radius_px(int x, int y) const {
   double dx = x + 0.5 - 0.5 * width - axis_x_px, dy = y + 0.5 - 0.5 * height - axis_y_px;

@@ -17,6 +17,7 @@
 #include <nlohmann/json.hpp>
 
 #include "renderer/camera/camera_description.h"
+#include "renderer/image/spectral_image.h"
 
 namespace ofl {
 
@@ -43,6 +44,10 @@ struct FieldGeometry {
 // camera geometry, angle-dependent parts evaluated on axis) are appended to `warnings`.
 FieldGeometry make_field_geometry(const LensDescription& lens, const SensorDescription& sensor, int width, int height,
                                   std::optional<double> render_vfov_deg, std::vector<std::string>* warnings);
+
+// The EXR's oralfluor.vfov_deg, when present and a number (an angle in (0, 180); otherwise a warning
+// and nothing).
+std::optional<double> render_vfov_deg(const SpectralImage& radiance, std::vector<std::string>* warnings);
 
 // pi / (1 + 4 N^2 (1 - m)^2): sensor irradiance per unit scene radiance on axis (sr), T excluded.
 double irradiance_factor(const LensDescription& lens);

@@ -29,55 +29,20 @@
 // The result is the radiance at the sensor grid ("equivalent radiance"); the camera equation
 // E = pi T L / (1 + 4 N^2 (1 - m)^2) cos^4(theta) stays where it was (expected_signal.h), with the
 // field angles of the sensor pixels (FieldGeometry with the axis offset).
+// The section's fields as parsed (OpticsDescription) are in optics_description.h.
 #pragma once
 #include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
-#include "renderer/camera/psf.h"
-#include "renderer/core/json_node.h"
+#include "renderer/camera/optics_description.h"
 #include "renderer/image/spectral_image.h"
 
 namespace ofl {
 
 struct CameraDescription;
 struct LensDescription;
-
-// A measured lens MTF: one radial MTF curve per wavelength (CSV columns wavelength_nm,
-// frequency_cyc_per_mm, mtf; rows of one wavelength together, frequencies increasing).
-struct MtfTable {
-  std::string file;
-  std::vector<double> wavelength_nm;
-  std::vector<std::vector<double>> freq_cyc_per_mm, mtf;
-  bool empty() const { return wavelength_nm.empty(); }
-  size_t nearest(double nm) const;  // index of the nearest tabulated wavelength
-};
-
-struct OpticsDescription {
-  bool enabled = false;            // the camera file has an "optics" section
-  int sensor_width_px = 0;         // "sensor_pixels": [width, height], required
-  int sensor_height_px = 0;
-  double offset_x_um = 0;          // "sensor_offset_um": [x, y], sensor centre relative to the optical axis
-  double offset_y_um = 0;          //   (x right, y down, as the image)
-  double focus_distance_mm = 0;    // "focus_distance_mm": object distance in focus; 0 (absent) = infinity
-  bool diffraction = true;         // "diffraction": Airy PSF of the working f-number per band
-  bool defocus = true;             // "defocus": blur circle from the EXR's aov.depth (needs a finite focus or a near scene)
-  double psf_extent_lambda_n = 15; // "psf_extent_lambda_n" (2-100): Airy table radius in units of lambda N (the rest
-                                   //   of the far rings, about 2 / (pi^2 extent) of the light, is renormalised into the kernel)
-  int psf_supersample = 4;         // "psf_supersample": samples per pixel side integrating the PSF (raised
-                                   //   automatically to at least 2 per lambda N)
-  MtfTable mtf;                    // "mtf_file": measured radial MTF per wavelength, replaces the Airy PSF
-  std::vector<PsfImage> psf_images;  // "psf_images": [{"wavelength_nm", "file", "pitch_um"}]: measured PSF
-                                   //   images (EXR/TIFF/PNG first channel, or a CSV grid), replace the Airy PSF
-  std::vector<std::string> psf_image_files;  // their paths (for raw.json)
-  size_t nearest_psf_image(double nm) const;
-};
-
-// Parses the "optics" object (file errors name the camera file and JSON path; MTF file errors name
-// the CSV, line and column).
-OpticsDescription parse_optics(const JsonNode& node);
-nlohmann::json optics_to_json(const OpticsDescription& o);
 
 // Image distance v in mm for the lens focused at the optics' focus distance (f at infinity).
 double image_distance_mm(const LensDescription& lens, const OpticsDescription& o);

@@ -5,7 +5,8 @@
 #pragma once
 #include <algorithm>
 
-#include "renderer/render/render_tables.h"
+#include "materials/material.h"
+#include "renderer/render/material_tables.h"
 #include "renderer/render/rng.h"
 
 namespace ofl {

@@ -28,7 +28,8 @@
 #include <string>
 #include <vector>
 
-#include "renderer/render/stack_response.h"
+#include "renderer/render/material_tables.h"
+#include "renderer/render/stack_response_table.h"
 #include "renderer/render/stack_tables.h"
 
 namespace ofl {

@@ -27,7 +27,7 @@
 #include <glm/geometric.hpp>
 
 #include "renderer/render/albedo_matrix.h"
-#include "renderer/render/render_tables.h"
+#include "renderer/render/material_tables.h"
 #include "renderer/render/rng.h"
 #include "renderer/render/sampling.h"
 

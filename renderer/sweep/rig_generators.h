@@ -22,15 +22,9 @@
 
 #include <nlohmann/json.hpp>
 
-#include "renderer/core/json_node.h"
 #include "renderer/sweep/sweep_spec.h"
 
 namespace ofl {
-
-bool is_rig_generator(const std::string& name);
-std::string rig_generator_names();  // comma separated, for error messages
-// Type and range checks of a generator's levels (InputError at the sweep file's field).
-void check_generator_values(const SweepParameter& p, const JsonNode& where);
 
 struct PointDocuments {
   nlohmann::json scene, camera;

@@ -5,10 +5,61 @@
 #include <set>
 
 #include "renderer/core/error.h"
-#include "renderer/sweep/rig_generators.h"
 
 namespace ofl {
 namespace {
+
+// The rig generators (rig_generators.h applies them): their names and the levels each takes are
+// part of the sweep file's format (docs/sweep-format.md), so the parser checks them here.
+const char* const kGenerators[] = {"led_count",       "ring_radius",        "led_tilt", "rig_distance",
+                                   "led_half_angle",  "led_filter_edge",    "camera_filter_edge",
+                                   "led_fwhm",        "scene_file",         "camera_file"};
+
+bool is_rig_generator(const std::string& name) {
+  for (const char* g : kGenerators)
+    if (name == g) return true;
+  return false;
+}
+
+std::string rig_generator_names() {
+  std::string s;
+  for (const char* g : kGenerators) s += (s.empty() ? "" : ", ") + std::string(g);
+  return s;
+}
+
+void check_generator_values(const SweepParameter& p, const JsonNode& n) {
+  const std::string& g = p.generator;
+  auto field = [&]() { return n.has("values") ? n.at("values") : n.at("range"); };
+  if (g == "scene_file" || g == "camera_file") {
+    if (p.range) field().fail("file generators take a list of file names, not a range");
+    for (size_t i = 0; i < p.values.size(); ++i) {
+      JsonNode v = n.at("values").at(i);
+      v.existing_file();  // string, and the file exists
+    }
+    return;
+  }
+  double lo = -1e300, hi = 1e300;
+  if (g == "led_count") lo = 1, hi = 1000;
+  else if (g == "ring_radius") lo = 0, hi = 10;
+  else if (g == "led_tilt") lo = -89, hi = 89;
+  else if (g == "rig_distance") lo = 1e-6, hi = 1e3;
+  else if (g == "led_half_angle") lo = 0.5, hi = 89.5;
+  else if (g == "led_filter_edge" || g == "camera_filter_edge") lo = 1, hi = 1e5;
+  else if (g == "led_fwhm") lo = 1e-3, hi = 1e4;
+  for (size_t i = 0; i < p.values.size(); ++i) {
+    const auto& v = p.values[i];
+    if (!v.is_number() || !std::isfinite(v.get<double>()) || v.get<double>() < lo || v.get<double>() > hi) {
+      std::string what = "generator " + g + " takes numbers in [" + nlohmann::json(lo).dump() + ", " +
+                         nlohmann::json(hi).dump() + "], got " + v.dump();
+      if (n.has("values")) n.at("values").at(i).fail(what);
+      field().fail(what);
+    }
+    if (g == "led_count" && !v.is_number_integer()) {
+      if (n.has("values")) n.at("values").at(i).fail("led_count takes integers");
+      field().fail("led_count takes integers: add \"integer\": true to the range");
+    }
+  }
+}
 
 // "/a/b" with every token present; the pointer is only checked for syntax here (the documents it
 // points into are checked when the design is validated).

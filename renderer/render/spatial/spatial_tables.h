@@ -15,7 +15,7 @@
 #include <memory>
 #include <vector>
 
-#include "renderer/render/render_tables.h"
+#include "renderer/render/material_tables.h"
 #include "renderer/render/spatial/stack_profiles.h"
 
 namespace ofl {

@@ -28,7 +28,7 @@
 #include <string>
 #include <vector>
 
-#include "renderer/render/render_tables.h"
+#include "renderer/render/material_tables.h"
 #include "renderer/render/spatial/radial_profile.h"
 
 namespace ofl {
