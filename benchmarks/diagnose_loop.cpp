@@ -42,7 +42,7 @@
 #include "renderer/diagnose/diagnose_model.h"
 #include "renderer/diagnose/render_loop.h"
 #include "renderer/plot/charts.h"
-#include "renderer/diagnose/nnls.h"
+#include "renderer/numerics/nnls.h"
 
 using namespace ofl;
 namespace fs = std::filesystem;

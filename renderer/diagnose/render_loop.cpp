@@ -9,7 +9,7 @@
 #include "renderer/core/asset_path.h"
 #include "renderer/core/json_node.h"
 #include "renderer/diagnose/model_extensions.h"
-#include "renderer/diagnose/nnls.h"
+#include "renderer/numerics/nnls.h"
 #include "renderer/render/render_job.h"
 
 namespace ofl {

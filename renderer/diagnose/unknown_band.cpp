@@ -5,7 +5,7 @@
 #include <cstdio>
 #include <sstream>
 
-#include "renderer/diagnose/nnls.h"
+#include "renderer/numerics/nnls.h"
 #include "renderer/plot/charts.h"
 
 namespace ofl {

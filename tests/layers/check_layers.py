@@ -15,7 +15,7 @@ import re
 import sys
 
 # Lowest first. A layer may include itself and the layers before it.
-LAYERS = ["core", "formats", "spectral", "image", "plot", "mesh", "materials", "scene", "camera", "render",
+LAYERS = ["core", "numerics", "formats", "spectral", "image", "plot", "mesh", "materials", "scene", "camera", "render",
           "analysis", "interop", "view", "bench", "sweep", "diagnose", "cli"]
 KNOWN_LOOPS = {
     "renderer/render <-> renderer/render/spatial",
