@@ -16,7 +16,7 @@
 #include <string>
 #include <vector>
 
-#include "renderer/diagnose/cross_validation.h"
+#include "renderer/diagnose/selection/cross_validation.h"
 #include "renderer/diagnose/synthetic.h"
 
 using namespace ofl;

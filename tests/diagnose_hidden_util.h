@@ -4,7 +4,7 @@
 #include <memory>
 #include <string>
 
-#include "renderer/diagnose/cross_validation.h"
+#include "renderer/diagnose/selection/cross_validation.h"
 #include "renderer/diagnose/synthetic.h"
 
 namespace ofl {

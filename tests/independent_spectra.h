@@ -19,7 +19,7 @@
 #include <vector>
 
 #include "renderer/core/asset_path.h"
-#include "renderer/diagnose/forward_model.h"
+#include "renderer/diagnose/spectra/forward_model.h"
 #include "renderer/diagnose/synthetic.h"
 #include "renderer/spectral/eem.h"
 #include "renderer/spectral/spectrum.h"

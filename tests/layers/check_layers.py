@@ -25,7 +25,6 @@ KNOWN_LOOPS = {
     "renderer/render/albedo_matrix <-> renderer/render/render_tables <-> renderer/render/spatial/spatial_tables <-> "
     "renderer/render/spatial/stack_profiles <-> renderer/render/stack_fill <-> renderer/render/stack_response <-> "
     "renderer/render/stack_response_cache <-> renderer/render/stack_walk",
-    "renderer/diagnose/forward_model <-> renderer/diagnose/layered_site <-> renderer/diagnose/render_loop",
     "renderer/sweep/rig_generators <-> renderer/sweep/sweep_spec",
 }
 INCLUDE = re.compile(r'^\s*#\s*include\s+"((?:renderer|materials)/[^"]+)"', re.M)

@@ -1,4 +1,4 @@
-#include "renderer/diagnose/forward_model.h"
+#include "renderer/diagnose/spectra/forward_model.h"
 
 #include <algorithm>
 #include <array>

@@ -23,8 +23,8 @@
 #include <string>
 #include <vector>
 
-#include "renderer/diagnose/diagnose_problem.h"
-#include "renderer/diagnose/global_fit.h"
+#include "renderer/diagnose/problem/diagnose_problem.h"
+#include "renderer/diagnose/selection/global_fit.h"
 
 namespace ofl {
 

@@ -1,4 +1,4 @@
-#include "renderer/diagnose/cross_validation.h"
+#include "renderer/diagnose/selection/cross_validation.h"
 
 #include <tbb/parallel_for.h>
 

@@ -1,4 +1,4 @@
-#include "renderer/diagnose/unknown_band.h"
+#include "renderer/diagnose/spectra/unknown_band.h"
 
 #include <algorithm>
 #include <cmath>
