@@ -17,7 +17,7 @@
 #include <vector>
 
 #include "renderer/diagnose/selection/cross_validation.h"
-#include "renderer/diagnose/synthetic.h"
+#include "tests/support/synthetic.h"
 
 using namespace ofl;
 

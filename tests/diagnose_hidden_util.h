@@ -5,7 +5,7 @@
 #include <string>
 
 #include "renderer/diagnose/selection/cross_validation.h"
-#include "renderer/diagnose/synthetic.h"
+#include "tests/support/synthetic.h"
 
 namespace ofl {
 

@@ -10,7 +10,7 @@
 
 #include "renderer/diagnose/selection/cross_validation.h"
 #include "renderer/diagnose/spectra/render_loop.h"
-#include "renderer/diagnose/synthetic.h"
+#include "tests/support/synthetic.h"
 
 using namespace ofl;
 

@@ -14,7 +14,7 @@
 #include "renderer/diagnose/report/diagnose_report.h"
 #include "materials/diagnosis_corrections.h"
 #include "renderer/diagnose/spectra/render_loop.h"
-#include "renderer/diagnose/synthetic.h"
+#include "tests/support/synthetic.h"
 
 using namespace ofl;
 

@@ -20,7 +20,7 @@
 #include "renderer/diagnose/selection/cross_validation.h"
 #include "renderer/diagnose/report/diagnose_report.h"
 #include "renderer/diagnose/selection/global_fit.h"
-#include "renderer/diagnose/synthetic.h"
+#include "tests/support/synthetic.h"
 #include "tests/cli_runner.h"
 
 using namespace ofl;

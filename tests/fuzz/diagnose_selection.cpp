@@ -26,7 +26,7 @@
 #include "renderer/diagnose/report/diagnose_report.h"
 #include "renderer/diagnose/spectra/forward_model.h"
 #include "renderer/diagnose/selection/global_fit.h"
-#include "renderer/diagnose/synthetic.h"
+#include "tests/support/synthetic.h"
 
 namespace ofl::fuzz {
 namespace {

@@ -1,4 +1,4 @@
-#include "renderer/diagnose/synthetic.h"
+#include "tests/support/synthetic.h"
 
 #include <algorithm>
 #include <cmath>
