@@ -16,8 +16,8 @@
 #include <string>
 #include <vector>
 
-#include "renderer/diagnose/cross_validation.h"
-#include "renderer/diagnose/synthetic.h"
+#include "renderer/diagnose/selection/cross_validation.h"
+#include "tests/support/synthetic.h"
 
 using namespace ofl;
 

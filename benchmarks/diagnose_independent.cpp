@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-#include "renderer/diagnose/cross_validation.h"
+#include "renderer/diagnose/selection/cross_validation.h"
 #include "tests/independent_spectra.h"
 
 using namespace ofl;

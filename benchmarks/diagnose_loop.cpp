@@ -5,7 +5,7 @@
 // cross-validation fold the global parameters (broadening, blood, bandwidth, ...) are the ones the
 // diagnosis fitted without that fold.
 //
-// Two ways to get concentrations (renderer/diagnose/render_loop.h):
+// Two ways to get concentrations (renderer/diagnose/spectra/render_loop.h):
 //   spectrum  the diagnosis' own protocol: every held-out spectrum's fluorophore amplitudes fitted
 //             to that spectrum (the diagnosis refits its local amplitudes on held-out data too);
 //   site      a fixed material per site (tongue, lip) fitted to the training folds' spectra of that
@@ -38,11 +38,11 @@
 #include "renderer/core/asset_path.h"
 #include "renderer/core/atomic_file.h"
 #include "renderer/core/error.h"
-#include "renderer/diagnose/cross_validation.h"
+#include "renderer/diagnose/selection/cross_validation.h"
 #include "renderer/diagnose/diagnose_model.h"
-#include "renderer/diagnose/render_loop.h"
+#include "renderer/diagnose/spectra/render_loop.h"
 #include "renderer/plot/charts.h"
-#include "renderer/diagnose/nnls.h"
+#include "renderer/numerics/nnls.h"
 
 using namespace ofl;
 namespace fs = std::filesystem;

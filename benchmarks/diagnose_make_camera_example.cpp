@@ -10,7 +10,7 @@
 
 #include "renderer/core/atomic_file.h"
 #include "renderer/core/error.h"
-#include "renderer/diagnose/synthetic.h"
+#include "tests/support/synthetic.h"
 
 using namespace ofl;
 

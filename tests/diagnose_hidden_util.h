@@ -4,8 +4,8 @@
 #include <memory>
 #include <string>
 
-#include "renderer/diagnose/cross_validation.h"
-#include "renderer/diagnose/synthetic.h"
+#include "renderer/diagnose/selection/cross_validation.h"
+#include "tests/support/synthetic.h"
 
 namespace ofl {
 

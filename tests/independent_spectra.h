@@ -1,6 +1,6 @@
 // Synthetic spectroradiometer data made WITHOUT diagnose's forward model, for the tests and the
 // benchmark (tests/test_diagnose_independent.cpp, benchmarks/diagnose_independent.cpp).
-// What differs from renderer/diagnose/synthetic.h (which reuses SpectraProblem) on purpose:
+// What differs from tests/support/synthetic.h (which reuses SpectraProblem) on purpose:
 // - wavelength handling: generated on a 0.5 nm grid, sampled every 3 nm from 381.5 nm (the model
 //   works on its own 2 nm grid);
 // - fluorophores: the library's raw EEM tables interpolated bilinearly here, excitation counted
@@ -19,8 +19,8 @@
 #include <vector>
 
 #include "renderer/core/asset_path.h"
-#include "renderer/diagnose/forward_model.h"
-#include "renderer/diagnose/synthetic.h"
+#include "renderer/diagnose/spectra/forward_model.h"
+#include "tests/support/synthetic.h"
 #include "renderer/spectral/eem.h"
 #include "renderer/spectral/spectrum.h"
 

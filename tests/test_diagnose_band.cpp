@@ -7,7 +7,7 @@
 
 #include <cmath>
 
-#include "renderer/diagnose/forward_model.h"
+#include "renderer/diagnose/spectra/forward_model.h"
 
 using namespace ofl;
 

@@ -8,9 +8,9 @@
 #include <gtest/gtest.h>
 
 #include "independent_spectra.h"
-#include "renderer/diagnose/cross_subject.h"
-#include "renderer/diagnose/cross_validation.h"
-#include "renderer/diagnose/unknown_band.h"
+#include "renderer/diagnose/spectra/cross_subject.h"
+#include "renderer/diagnose/selection/cross_validation.h"
+#include "renderer/diagnose/spectra/unknown_band.h"
 
 using namespace ofl;
 

@@ -14,7 +14,7 @@
 #include "renderer/core/asset_path.h"
 #include "renderer/core/error.h"
 #include "renderer/diagnose/diagnose_model.h"
-#include "renderer/diagnose/measurement_set.h"
+#include "renderer/diagnose/problem/measurement_set.h"
 
 using namespace ofl;
 namespace fs = std::filesystem;

@@ -1,4 +1,4 @@
-// The layered_tissue cause of a spectra diagnosis (renderer/diagnose/layered_site.h): its columns
+// The layered_tissue cause of a spectra diagnosis (renderer/diagnose/spectra/layered_site.h): its columns
 // are what the renderer shows for the same stack, and on spectra rendered from a stack with more
 // blood and a thinner epithelium than the preset it recovers them and explains the data better
 // held out than the surface blood filter.
@@ -8,9 +8,9 @@
 #include <cstdlib>
 #include <random>
 
-#include "renderer/diagnose/cross_validation.h"
-#include "renderer/diagnose/render_loop.h"
-#include "renderer/diagnose/synthetic.h"
+#include "renderer/diagnose/selection/cross_validation.h"
+#include "renderer/diagnose/spectra/render_loop.h"
+#include "tests/support/synthetic.h"
 
 using namespace ofl;
 

@@ -10,11 +10,11 @@
 #include <fstream>
 #include <random>
 
-#include "renderer/diagnose/cross_validation.h"
-#include "renderer/diagnose/diagnose_report.h"
+#include "renderer/diagnose/selection/cross_validation.h"
+#include "renderer/diagnose/report/diagnose_report.h"
 #include "materials/diagnosis_corrections.h"
-#include "renderer/diagnose/render_loop.h"
-#include "renderer/diagnose/synthetic.h"
+#include "renderer/diagnose/spectra/render_loop.h"
+#include "tests/support/synthetic.h"
 
 using namespace ofl;
 

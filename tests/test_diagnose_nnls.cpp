@@ -3,7 +3,7 @@
 
 #include <random>
 
-#include "renderer/diagnose/nnls.h"
+#include "renderer/numerics/nnls.h"
 
 using namespace ofl;
 

@@ -17,10 +17,10 @@
 
 #include <nlohmann/json.hpp>
 
-#include "renderer/diagnose/cross_validation.h"
-#include "renderer/diagnose/diagnose_report.h"
-#include "renderer/diagnose/global_fit.h"
-#include "renderer/diagnose/synthetic.h"
+#include "renderer/diagnose/selection/cross_validation.h"
+#include "renderer/diagnose/report/diagnose_report.h"
+#include "renderer/diagnose/selection/global_fit.h"
+#include "tests/support/synthetic.h"
 #include "tests/cli_runner.h"
 
 using namespace ofl;

@@ -7,11 +7,11 @@
 #include "renderer/core/error.h"
 #include "renderer/core/atomic_file.h"
 #include "renderer/core/progress.h"
-#include "renderer/diagnose/camera_model.h"
-#include "renderer/diagnose/cross_subject.h"
-#include "renderer/diagnose/unknown_band.h"
-#include "renderer/diagnose/diagnose_report.h"
-#include "renderer/diagnose/forward_model.h"
+#include "renderer/diagnose/camera/camera_model.h"
+#include "renderer/diagnose/spectra/cross_subject.h"
+#include "renderer/diagnose/spectra/unknown_band.h"
+#include "renderer/diagnose/report/diagnose_report.h"
+#include "renderer/diagnose/spectra/forward_model.h"
 
 namespace ofl {
 

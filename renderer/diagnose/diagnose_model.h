@@ -9,10 +9,10 @@
 
 #include <nlohmann/json.hpp>
 
-#include "renderer/diagnose/camera_model.h"
-#include "renderer/diagnose/cross_validation.h"
-#include "renderer/diagnose/forward_model.h"
-#include "renderer/diagnose/measurement_set.h"
+#include "renderer/diagnose/camera/camera_model.h"
+#include "renderer/diagnose/selection/cross_validation.h"
+#include "renderer/diagnose/spectra/forward_model.h"
+#include "renderer/diagnose/problem/measurement_set.h"
 
 namespace ofl {
 

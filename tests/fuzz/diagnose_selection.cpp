@@ -19,14 +19,14 @@
 
 #include "renderer/core/asset_path.h"
 #include "renderer/core/error.h"
-#include "renderer/diagnose/camera_model.h"
-#include "renderer/diagnose/cross_validation.h"
+#include "renderer/diagnose/camera/camera_model.h"
+#include "renderer/diagnose/selection/cross_validation.h"
 #include "renderer/diagnose/diagnose_job.h"
 #include "renderer/diagnose/diagnose_model.h"
-#include "renderer/diagnose/diagnose_report.h"
-#include "renderer/diagnose/forward_model.h"
-#include "renderer/diagnose/global_fit.h"
-#include "renderer/diagnose/synthetic.h"
+#include "renderer/diagnose/report/diagnose_report.h"
+#include "renderer/diagnose/spectra/forward_model.h"
+#include "renderer/diagnose/selection/global_fit.h"
+#include "tests/support/synthetic.h"
 
 namespace ofl::fuzz {
 namespace {

@@ -15,7 +15,7 @@
 #include "renderer/core/error.h"
 #include "renderer/core/json_node.h"
 #include "renderer/diagnose/diagnose_model.h"
-#include "renderer/diagnose/measurement_set.h"
+#include "renderer/diagnose/problem/measurement_set.h"
 #include "renderer/image/image_file.h"
 #include "renderer/image/spectral_exr.h"
 #include "renderer/interop/iset_scene.h"

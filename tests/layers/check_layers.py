@@ -15,11 +15,10 @@ import re
 import sys
 
 # Lowest first. A layer may include itself and the layers before it.
-LAYERS = ["core", "formats", "spectral", "image", "plot", "mesh", "materials", "scene", "camera", "render",
+LAYERS = ["core", "numerics", "formats", "spectral", "image", "plot", "mesh", "materials", "scene", "camera", "render",
           "analysis", "interop", "view", "bench", "sweep", "diagnose", "cli"]
 KNOWN_LOOPS = {
     "renderer/render <-> renderer/render/spatial",
-    "renderer/diagnose/forward_model <-> renderer/diagnose/layered_site <-> renderer/diagnose/render_loop",
 }
 INCLUDE = re.compile(r'^\s*#\s*include\s+"((?:renderer|materials)/[^"]+)"', re.M)
 

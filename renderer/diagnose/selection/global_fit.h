@@ -5,7 +5,7 @@
 #pragma once
 #include <vector>
 
-#include "renderer/diagnose/diagnose_problem.h"
+#include "renderer/diagnose/problem/diagnose_problem.h"
 
 namespace ofl {
 

@@ -1,4 +1,4 @@
-#include "renderer/diagnose/layered_site.h"
+#include "renderer/diagnose/spectra/layered_site.h"
 
 #include <algorithm>
 #include <chrono>
@@ -6,7 +6,7 @@
 
 #include "renderer/core/asset_path.h"
 #include "renderer/core/error.h"
-#include "renderer/diagnose/render_loop.h"
+#include "renderer/diagnose/spectra/flat_patch.h"
 #include "renderer/render/render_tables.h"
 #include "renderer/render/stack_response.h"
 #include "renderer/scene/scene.h"

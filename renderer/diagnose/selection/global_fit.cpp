@@ -1,4 +1,4 @@
-#include "renderer/diagnose/global_fit.h"
+#include "renderer/diagnose/selection/global_fit.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "renderer/diagnose/cross_validation.h"
+#include "renderer/diagnose/selection/cross_validation.h"
 
 #include <tbb/parallel_for.h>
 
@@ -11,6 +11,7 @@
 
 #include "renderer/core/error.h"
 #include "renderer/core/progress.h"
+#include "renderer/diagnose/selection/selection_policies.h"
 
 namespace ofl {
 
@@ -20,12 +21,6 @@ std::string key_of(const DiagnoseProblem& p, int i, const std::vector<std::strin
   std::string k;
   for (auto& c : cols) k += (k.empty() ? "" : ", ") + c + "=" + p.condition(i, c);
   return k;
-}
-
-std::string fmtg(double v) {
-  char b[64];
-  std::snprintf(b, sizeof b, "%.4g", v);
-  return b;
 }
 
 std::vector<int> all_items(const DiagnoseProblem& p) {
@@ -214,7 +209,7 @@ std::vector<std::string> params_at_bound(const DiagnoseProblem& p, int cand, con
       for (auto& st : after.fold_states)
         if (!st.causes.empty() && st.causes.back().candidate == cand) mean += st.causes.back().theta[k] / n;
       bool on_lo = std::isfinite(ps.lo) && std::fabs(mean - ps.lo) < std::fabs(mean - ps.hi);
-      if (!(on_lo && null_bound)) out.push_back(ps.name + " = " + fmtg(on_lo ? ps.lo : ps.hi) + " (" + (on_lo ? "lower" : "upper") + " bound)");
+      if (!(on_lo && null_bound)) out.push_back(ps.name + " = " + verdict_number(on_lo ? ps.lo : ps.hi) + " (" + (on_lo ? "lower" : "upper") + " bound)");
     }
   }
   return out;
@@ -242,7 +237,7 @@ std::vector<std::string> implausible_estimates(const DiagnoseProblem& p, int can
     for (auto& dp : derived)
       if (dp.name == q.quantity) v = dp.value;
     if (std::isfinite(v) && (v < q.lo || v > q.hi))
-      out.push_back(q.quantity + " " + fmtg(v) + " outside [" + fmtg(q.lo) + ", " + fmtg(q.hi) + "]: " + q.why);
+      out.push_back(q.quantity + " " + verdict_number(v) + " outside [" + verdict_number(q.lo) + ", " + verdict_number(q.hi) + "]: " + q.why);
   }
   return out;
 }
@@ -362,18 +357,18 @@ CandidateTrial judge(const DiagnoseProblem& p, int cand, const CvRun& before, Cv
   t.accepted = statistics_ok && t.at_bound.empty() && t.implausible.empty();
   if (t.accepted)
     t.verdict = t.carried_by.empty() ? "held-out gain beats the noise"
-                                     : "held-out gain beats the noise on " + t.carried_by + " (gain " + fmtg(t.subset_gain) +
-                                           " > " + fmtg(t.subset_threshold) + "); not on the pooled data";
+                                     : "held-out gain beats the noise on " + t.carried_by + " (gain " + verdict_number(t.subset_gain) +
+                                           " > " + verdict_number(t.subset_threshold) + "); not on the pooled data";
   else if (statistics_ok && !t.at_bound.empty())
     t.verdict = "not accepted on the strength of a bound: " + t.at_bound[0];
   else if (statistics_ok)
     t.verdict = "implausible: " + t.implausible[0];
   else if (!gain_ok)
-    t.verdict = "held-out gain " + fmtg(g.mean) + " below the threshold " + fmtg(t.threshold);
+    t.verdict = "held-out gain " + verdict_number(g.mean) + " below the threshold " + verdict_number(t.threshold);
   else if (!folds_ok)
     t.verdict = "improves only " + std::to_string(t.folds_improved) + " of " + std::to_string(t.folds) + " held-out groups";
   else
-    t.verdict = "significant but negligible: effect RMS " + fmtg(effect) + " < " + fmtg(min_effect) + " x noise floor";
+    t.verdict = "significant but negligible: effect RMS " + verdict_number(effect) + " < " + verdict_number(min_effect) + " x noise floor";
   t.cv = std::move(after);
   return t;
 }
@@ -409,121 +404,6 @@ bool requirement_met(const DiagnoseProblem& p, const ModelState& s, int c) {
   return false;
 }
 
-// A global broadening of every fluorophore stays a candidate only while no per-fluorophore shape
-// cause (a width, shift or second band of one named fluorophore) explains as much held out.
-// Per-item held-out gain of trial a over trial b (same step, same "before"): mean and standard error.
-std::pair<double, double> gain_difference(const CandidateTrial& a, const CandidateTrial& b) {
-  const size_t M = a.cv.item_mse.size();
-  if (M < 2 || b.cv.item_mse.size() != M) return {0, 0};
-  std::vector<double> d(M);
-  double m = 0;
-  for (size_t i = 0; i < M; ++i) { d[i] = b.cv.item_mse[i] - a.cv.item_mse[i]; m += d[i]; }
-  m /= M;
-  double v = 0;
-  for (double x : d) v += (x - m) * (x - m);
-  return {m, std::sqrt(v / (M - 1) / M)};
-}
-
-// One width per fluorophore contains the single global width; it is preferred only when it
-// predicts held-out data significantly better (z standard errors of the per-item difference).
-void prefer_single_width(const DiagnoseProblem& p, std::vector<CandidateTrial>& trials, double z) {
-  CandidateTrial* global = nullptr;
-  CandidateTrial* each = nullptr;
-  for (auto& t : trials) {
-    if (p.candidates()[t.candidate].name == "emission_broadening") global = &t;
-    if (p.candidates()[t.candidate].name == "emission_width_each") each = &t;
-  }
-  if (!global || !each || !global->accepted || !each->accepted) return;
-  auto [m, se] = gain_difference(*each, *global);
-  if (!(m > z * se)) {
-    each->accepted = false;
-    each->verdict = "no better held out than one width for all fluorophores (difference " + fmtg(m) + " +/- " + fmtg(se) + ")";
-  }
-}
-
-void reject_dominated_global_broadening(const DiagnoseProblem& p, std::vector<CandidateTrial>& trials) {
-  for (auto& t : trials) {
-    if (p.candidates()[t.candidate].name != "emission_broadening" || !t.accepted) continue;
-    for (auto& u : trials) {
-      const std::string& n = p.candidates()[u.candidate].name;
-      bool per_fluorophore = n == "emission_width" || n == "emission_width_each" || n == "emission_shift" || n == "second_band";
-      if (per_fluorophore && p.candidates()[u.candidate].id != "emission_shift" && &u != &t &&
-          u.mean_gain - u.optimism >= t.mean_gain - t.optimism && u.accepted) {
-        t.accepted = false;
-        t.verdict = "a per-fluorophore alternative (" + p.candidates()[u.candidate].id + ") explains as much held out";
-        break;
-      }
-    }
-  }
-}
-
-// On data that nearly fit a tissue cause must explain the noise floor, since a slightly wrong
-// instrument description leaves residuals of that size (min_effect_of). A smaller tissue cause is
-// still named when the residual is specifically its shape: it predicts the held-out items
-// significantly better (z standard errors of the per-item difference, optimism charged) than
-// every instrument cause tried at the same step. Needs at least one instrument cause to compare;
-// applied while no cause has been accepted yet (the selection loop).
-void accept_unlike_any_instrument(const DiagnoseProblem& p, std::vector<CandidateTrial>& trials, double z) {
-  std::vector<const CandidateTrial*> instrument;
-  for (auto& u : trials)
-    if (p.candidates()[u.candidate].instrument) instrument.push_back(&u);
-  if (instrument.empty()) return;
-  for (auto& t : trials) {
-    if (!t.below_floor_only || t.accepted) continue;
-    bool ok = true;
-    std::string closest;
-    double closest_margin = 1e300;
-    for (const CandidateTrial* u : instrument) {
-      auto [m, se] = gain_difference(t, *u);
-      m -= t.optimism - u->optimism;
-      if (!(se > 0 && m > z * se)) {
-        ok = false;
-        break;
-      }
-      if (m / se < closest_margin) {
-        closest_margin = m / se;
-        closest = p.candidates()[u->candidate].id;
-      }
-    }
-    if (!ok) continue;
-    t.accepted = true;
-    t.verdict = "below the noise floor on data that nearly fit, but significantly better held out than every instrument cause "
-                "(closest: " + closest + ", " + fmtg(closest_margin) + " standard errors)";
-  }
-}
-
-// The best-fitting trial among those whose held-out statistics pass (largest gain beyond its
-// optimism), when it is not accepted because an estimate is implausible or rests on a bound.
-// Trials turned down only in favour of an alternative (one width for all, a per-fluorophore shape)
-// are not "set aside": their rival is as good.
-const CandidateTrial* best_set_aside(const std::vector<CandidateTrial>& trials) {
-  const CandidateTrial* best = nullptr;
-  for (auto& t : trials)
-    if (t.statistics_ok && (!best || t.mean_gain - t.optimism > best->mean_gain - best->optimism)) best = &t;
-  if (!best || best->accepted || (best->implausible.empty() && best->at_bound.empty())) return nullptr;
-  return best;
-}
-
-// Plausibility never silently swaps in a worse explanation: once the best-fitting trial is set
-// aside, another is accepted only if it does not predict the held-out items significantly worse
-// (z standard errors of the per-item difference of held-out MSE, the extra amplitudes' optimism
-// charged). Returns the set-aside trial (nullptr when there is none).
-const CandidateTrial* hold_to_set_aside(const DiagnoseProblem& p, std::vector<CandidateTrial>& trials, double z) {
-  const CandidateTrial* aside = best_set_aside(trials);
-  if (!aside) return nullptr;
-  for (auto& t : trials) {
-    if (!t.accepted) continue;
-    auto [m, se] = gain_difference(*aside, t);
-    m -= aside->optimism - t.optimism;
-    if (m > z * se) {
-      t.accepted = false;
-      t.verdict = "significantly worse held out than " + p.candidates()[aside->candidate].id + ", which was set aside (" +
-                  fmtg(m) + " +/- " + fmtg(se) + " in held-out MSE)";
-    }
-  }
-  return aside;
-}
-
 // A set-aside trial in words: its parameters as the mean of the fold fits (their spread as the
 // uncertainty), its derived quantities from the held-out fits.
 SetAside describe_set_aside(const DiagnoseProblem& p, const CandidateTrial& t, int step) {
@@ -552,7 +432,7 @@ std::string set_aside_verdict(const DiagnoseProblem& p, const std::vector<SetAsi
   std::string v;
   for (auto& a : aside) {
     v += a.step == 1 ? "the data are best explained by " : "at step " + std::to_string(a.step) + " the data are best explained further by ";
-    v += p.candidates()[a.candidate].id + " (held-out RMSE " + fmtg(a.rmse_before) + " -> " + fmtg(a.rmse_after) + "), set aside as " +
+    v += p.candidates()[a.candidate].id + " (held-out RMSE " + verdict_number(a.rmse_before) + " -> " + verdict_number(a.rmse_after) + "), set aside as " +
          a.reason + (a.instead.empty() ? "; nothing else is accepted in its place" : "; accepted in its place, not significantly worse: " + a.instead) +
          "; ";
   }
@@ -608,9 +488,9 @@ std::vector<std::string> final_params_at_bound(const CandidateSpec& c, const std
     const ParamSpec& ps = c.params[k];
     if (ps.lo == ps.hi) continue;  // fixed by the model
     double span = std::isfinite(ps.hi - ps.lo) ? ps.hi - ps.lo : std::fabs(theta[k]) + 1;
-    if (std::isfinite(ps.hi) && theta[k] >= ps.hi - 1e-3 * span) out.push_back(ps.name + " at its upper bound " + fmtg(ps.hi));
+    if (std::isfinite(ps.hi) && theta[k] >= ps.hi - 1e-3 * span) out.push_back(ps.name + " at its upper bound " + verdict_number(ps.hi));
     if (std::isfinite(ps.lo) && theta[k] <= ps.lo + 1e-3 * span && !(ps.lo == 0 && ps.init == 0))
-      out.push_back(ps.name + " at its lower bound " + fmtg(ps.lo));
+      out.push_back(ps.name + " at its lower bound " + verdict_number(ps.lo));
   }
   return out;
 }
@@ -707,16 +587,6 @@ std::vector<CvRun> cross_validate_candidates(const DiagnoseProblem& p, const Sel
   return runs;
 }
 
-// The accepted trial with the largest optimism-corrected gain, -1 for none.
-int best_accepted(const std::vector<CandidateTrial>& trials) {
-  int best = -1;
-  for (size_t k = 0; k < trials.size(); ++k)
-    if (trials[k].accepted &&
-        (best < 0 || trials[k].mean_gain - trials[k].optimism > trials[best].mean_gain - trials[best].optimism))
-      best = static_cast<int>(k);
-  return best;
-}
-
 // Where forward selection stands between steps.
 struct SelectionState {
   CvRun current;                    // cross-validation of the model in hand
@@ -742,7 +612,8 @@ bool selection_step(const DiagnoseProblem& p, const SelectionOptions& o, const s
   std::vector<CandidateTrial> trials;
   for (size_t k = 0; k < todo.size(); ++k) trials.push_back(judge(p, todo[k], s.current, std::move(runs[k]), dg.folds, floor, o));
   if (step == 1) s.solo = trials;
-  // Only while nothing is named yet: after a cause is in, a leftover below the floor is as likely
+  // The rules that compare this step's trials with each other (selection_policies.h), in order.
+  // accept_unlike_any_instrument only while nothing is named yet: after a cause is in, a leftover below the floor is as likely
   // the imperfect shape of that cause (a skewed band fitted by the log-normal one drew in
   // bacterial porphyrin in 1 of 10 independent runs when this applied at every step).
   if (s.full.state.causes.empty()) accept_unlike_any_instrument(p, trials, o.z);
@@ -830,16 +701,16 @@ std::string verdict_text(const DiagnoseProblem& p, const Diagnosis& dg) {
     verdict = "no significant effect: no candidate cause improves the held-out prediction by more than the noise allows";
     if (!dg.set_aside.empty()) verdict = "no cause accepted";  // the set-aside one did; the verdict opens with it
     else if (b)
-      verdict += " (closest: " + p.candidates()[b->candidate].id + ", gain " + fmtg(b->mean_gain) + " vs threshold " +
-                 fmtg(b->threshold) + ")";
+      verdict += " (closest: " + p.candidates()[b->candidate].id + ", gain " + verdict_number(b->mean_gain) + " vs threshold " +
+                 verdict_number(b->threshold) + ")";
   } else {
     verdict = std::to_string(dg.causes.size()) + " cause(s) found:";
     for (auto& c : dg.causes) verdict += " " + p.candidates()[c.candidate].id;
   }
   verdict = set_aside_verdict(p, dg.set_aside) + verdict;
   if (dg.instrument_mismatch)
-    verdict += "; instrument mismatch: the baseline misses by only " + fmtg(dg.baseline_lack_of_fit) + " x the noise floor and " +
-               fmtg(100 * dg.common_shape_share) +
+    verdict += "; instrument mismatch: the baseline misses by only " + verdict_number(dg.baseline_lack_of_fit) + " x the noise floor and " +
+               verdict_number(100 * dg.common_shape_share) +
                " % of its residual is one shape shared by every item (tissue causes had to exceed the noise floor)";
   return verdict;
 }

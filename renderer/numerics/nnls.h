@@ -1,7 +1,7 @@
 // Non-negative least squares: minimise |A x - b|^2 subject to x >= 0 (Lawson & Hanson 1974,
-// active-set method). Used for the per-spectrum fluorophore amplitudes, which are concentrations
-// and light levels and so cannot be negative. Problems here are small (a few hundred rows, at most
-// a few dozen columns), so each passive-set solve is a fresh column-pivoted QR.
+// active-set method). diagnose uses it for the per-spectrum fluorophore amplitudes, which are
+// concentrations and light levels and so cannot be negative. Problems there are small (a few
+// hundred rows, at most a few dozen columns), so each passive-set solve is a fresh column-pivoted QR.
 #pragma once
 #include <Eigen/Dense>
 

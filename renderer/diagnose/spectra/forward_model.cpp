@@ -1,4 +1,4 @@
-#include "renderer/diagnose/forward_model.h"
+#include "renderer/diagnose/spectra/forward_model.h"
 
 #include <algorithm>
 #include <array>
@@ -9,7 +9,7 @@
 #include <tuple>
 
 #include "renderer/core/error.h"
-#include "renderer/diagnose/nnls.h"
+#include "renderer/numerics/nnls.h"
 #include "renderer/spectral/fluorophore_library.h"
 #include "renderer/spectral/hemoglobin.h"
 

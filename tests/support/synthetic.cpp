@@ -1,4 +1,4 @@
-#include "renderer/diagnose/synthetic.h"
+#include "tests/support/synthetic.h"
 
 #include <algorithm>
 #include <cmath>
@@ -7,7 +7,7 @@
 #include "renderer/core/asset_path.h"
 #include "renderer/core/csv.h"
 #include "renderer/core/error.h"
-#include "renderer/diagnose/global_fit.h"
+#include "renderer/diagnose/selection/global_fit.h"
 
 namespace ofl {
 

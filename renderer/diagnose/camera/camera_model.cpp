@@ -1,4 +1,4 @@
-#include "renderer/diagnose/camera_model.h"
+#include "renderer/diagnose/camera/camera_model.h"
 
 #include <algorithm>
 #include <cmath>

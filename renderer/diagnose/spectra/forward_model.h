@@ -18,10 +18,10 @@
 #include <string>
 #include <vector>
 
-#include "renderer/diagnose/diagnose_problem.h"
-#include "renderer/diagnose/layered_site.h"
-#include "renderer/diagnose/measurement_set.h"
-#include "renderer/diagnose/model_extensions.h"
+#include "renderer/diagnose/problem/diagnose_problem.h"
+#include "renderer/diagnose/spectra/layered_site.h"
+#include "renderer/diagnose/problem/measurement_set.h"
+#include "renderer/diagnose/problem/model_extensions.h"
 #include "renderer/spectral/eem.h"
 #include "renderer/spectral/optical_filter.h"
 #include "renderer/spectral/spectrum.h"

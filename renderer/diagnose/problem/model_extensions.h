@@ -46,7 +46,7 @@
 #include <string>
 #include <vector>
 
-#include "renderer/diagnose/diagnose_problem.h"
+#include "renderer/diagnose/problem/diagnose_problem.h"
 #include "renderer/spectral/sample_shapes.h"
 
 namespace ofl {

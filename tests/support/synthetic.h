@@ -8,8 +8,8 @@
 #include <string>
 #include <vector>
 
-#include "renderer/diagnose/camera_model.h"
-#include "renderer/diagnose/forward_model.h"
+#include "renderer/diagnose/camera/camera_model.h"
+#include "renderer/diagnose/spectra/forward_model.h"
 
 namespace ofl {
 

@@ -1,4 +1,4 @@
-#include "renderer/diagnose/measurement_set.h"
+#include "renderer/diagnose/problem/measurement_set.h"
 
 #include <cmath>
 #include <cstdlib>

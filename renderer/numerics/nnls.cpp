@@ -1,4 +1,4 @@
-#include "renderer/diagnose/nnls.h"
+#include "renderer/numerics/nnls.h"
 
 #include <cmath>
 #include <vector>

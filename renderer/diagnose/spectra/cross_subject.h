@@ -11,8 +11,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "renderer/diagnose/cross_validation.h"
-#include "renderer/diagnose/forward_model.h"
+#include "renderer/diagnose/selection/cross_validation.h"
+#include "renderer/diagnose/spectra/forward_model.h"
 
 namespace ofl {
 

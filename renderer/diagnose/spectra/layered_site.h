@@ -6,7 +6,7 @@
 //
 // What it computes. A fluorophore k spread through the layers that hold it, under light L (radiance
 // E_L on a white target, so irradiance pi E_L), viewed along the normal with the light at the
-// flat patch's 45 degrees (render_loop.h), gives the radiance
+// flat patch's 45 degrees (flat_patch.h), gives the radiance
 //   col_k(em) = pi sum_ex f_k(em <- ex) E_L(ex) ex / em,
 //   f_k(em <- ex) = 1/(4 pi) sum_l (n_a/n_l)^2 integral_l Phi(z; mu_o, em) sigma_k,l(em <- ex) Phi(z; mu_i, ex) dz
 // (the factorisation the layered table uses, renderer/render/stack_response.h), with
@@ -54,7 +54,7 @@ struct LayeredCauseOptions {
   std::string epithelium = "epithelium";  // the layer whose thickness is fitted
   double transport_step_nm = 5;           // coarse grid of the walks
   int photons = 3000;                     // walks per cosine and wavelength group, per node
-  double view_cos = 1.0, light_cos = 0.70710678118654752;  // flat patch geometry (render_loop.h)
+  double view_cos = 1.0, light_cos = 0.70710678118654752;  // flat patch geometry (flat_patch.h)
   std::vector<double> thickness_mm = {0.05, 0.1, 0.15, 0.2, 0.25, 0.3, 0.4, 0.5, 0.65};
   std::vector<double> blood_fraction = {0, 0.005, 0.01, 0.02, 0.04, 0.08, 0.14, 0.2};
   std::vector<double> saturation = {0.3, 0.6, 0.8, 1.0};

@@ -1,4 +1,4 @@
-#include "renderer/diagnose/diagnose_report.h"
+#include "renderer/diagnose/report/diagnose_report.h"
 
 #include <cmath>
 #include <cstdio>

@@ -13,7 +13,7 @@
 #include <utility>
 #include <vector>
 
-#include "renderer/diagnose/forward_model.h"
+#include "renderer/diagnose/spectra/forward_model.h"
 
 namespace ofl {
 
@@ -34,7 +34,7 @@ UnknownBandEstimate estimate_unknown_band(const SpectraProblem& p, const ModelSt
 
 #include <nlohmann/json.hpp>
 
-#include "renderer/diagnose/cross_validation.h"
+#include "renderer/diagnose/selection/cross_validation.h"
 #include "renderer/plot/vector_plot.h"
 
 namespace ofl {

@@ -1,4 +1,4 @@
-#include "renderer/diagnose/cross_subject.h"
+#include "renderer/diagnose/spectra/cross_subject.h"
 
 #include <cmath>
 #include <cstdio>

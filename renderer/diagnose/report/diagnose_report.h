@@ -8,8 +8,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "renderer/diagnose/cross_validation.h"
-#include "renderer/diagnose/diagnose_problem.h"
+#include "renderer/diagnose/selection/cross_validation.h"
+#include "renderer/diagnose/problem/diagnose_problem.h"
 
 namespace ofl {
 

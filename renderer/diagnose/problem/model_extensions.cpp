@@ -1,4 +1,4 @@
-#include "renderer/diagnose/model_extensions.h"
+#include "renderer/diagnose/problem/model_extensions.h"
 
 #include <algorithm>
 #include <cmath>

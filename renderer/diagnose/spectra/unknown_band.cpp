@@ -1,11 +1,11 @@
-#include "renderer/diagnose/unknown_band.h"
+#include "renderer/diagnose/spectra/unknown_band.h"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <sstream>
 
-#include "renderer/diagnose/nnls.h"
+#include "renderer/numerics/nnls.h"
 #include "renderer/plot/charts.h"
 
 namespace ofl {
