@@ -46,7 +46,7 @@ std::string stack_response_unsupported(const StackTables& st, const MaterialTabl
 
 // The stack's depth-resolved fluence for light incident at fixed cosines: what the table's
 // fluorescence is built from, for callers that weight depth themselves (diagnose's layered_tissue
-// cause, renderer/diagnose/layered_site.h). Same walks as the fill (photon mode, entering through the
+// cause, renderer/diagnose/spectra/layered_site.h). Same walks as the fill (photon mode, entering through the
 // top interface, similarity after opt.similarity_after collisions), launched at exactly mu, seeded
 // by (cosine, wavelength group), so the result does not depend on the number of threads.
 struct StackFluence {
