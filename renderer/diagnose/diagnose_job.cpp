@@ -125,6 +125,7 @@ DiagnoseOutcome run_diagnose_job(const DiagnoseJob& job) {
   if (!job.tissue_per.empty()) m.spectra.tissue_per = job.tissue_per;
 
   std::unique_ptr<DiagnoseProblem> problem;
+  const SpectraProblem* spectra = nullptr;  // the same problem when it is spectra (the extras below)
   ReportContext ctx;
   ctx.job = job.to_json();
   ctx.input = job.input;
@@ -147,7 +148,9 @@ DiagnoseOutcome run_diagnose_job(const DiagnoseJob& job) {
                          {"fluorophores", m.spectra.fluorophores},
                          {"shared_concentrations", m.spectra.shared_by},
                          {"tissue_per", m.spectra.tissue_per}};
-    problem = spectra_problem(std::move(data), std::move(m.spectra), job.model);
+    std::unique_ptr<SpectraProblem> sp = spectra_problem(std::move(data), std::move(m.spectra), job.model);
+    spectra = sp.get();
+    problem = std::move(sp);
   } else {
     CameraPatchSet data = read_camera_patches(job.input, select);
     ctx.notes = data.notes;
@@ -164,8 +167,8 @@ DiagnoseOutcome run_diagnose_job(const DiagnoseJob& job) {
   if (!job.outdir.empty()) out.files = write_diagnosis_files(*problem, d, ctx, job.outdir);
   out.report = diagnosis_json(*problem, d, ctx);
   out.text = diagnosis_text(*problem, d, ctx);
-  if (kind == InputKind::kSpectra) {
-    UnknownBandReport ub = unknown_band_report(static_cast<const SpectraProblem&>(*problem), d);
+  if (spectra) {
+    UnknownBandReport ub = unknown_band_report(*spectra, d);
     if (ub.estimate.found) {
       out.report["unknown_band_estimate"] = unknown_band_json(ub);
       out.text += unknown_band_text(ub);
@@ -177,8 +180,8 @@ DiagnoseOutcome run_diagnose_job(const DiagnoseJob& job) {
       }
     }
   }
-  if (target) {
-    CrossSubjectPrediction c = predict_other_subjects(static_cast<const SpectraProblem&>(*problem), d, *target);
+  if (target && spectra) {
+    CrossSubjectPrediction c = predict_other_subjects(*spectra, d, *target);
     c.fit_on = job.fit_on;
     c.predict = job.predict.empty() ? "every other row" : job.predict;
     out.report["prediction"] = prediction_json(c);
