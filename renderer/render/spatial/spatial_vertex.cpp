@@ -385,6 +385,13 @@ void SpatialTransport::elastic_values(const Vertex& v, const Entry& e, double mu
 // material.
 void SpatialTransport::fluorescent_crossing(const Vertex& v, const Entry& e, int group, double mu_i, double* out) const {
   for (int k = 0; k < kLanes; ++k) out[k] = 1.0;
+  // Most entries stay in one material (always without regions): nothing to look up.
+  auto crosses = [&](const Chord& c) {
+    for (int j = 0; j < c.n; ++j)
+      if (c.material[j] != e.material && c.share[j] > 0) return true;
+    return false;
+  };
+  if (!crosses(e.chord) && !crosses(e.ex_chord)) return;
   const SpatialStack& Sm = *t_.materials[e.material].stack.spatial;
   const auto co_m = Sm.cosines(v.mu_o), ci_m = Sm.cosines(mu_i);
   const double ex_m = Sm.excitation_fluence(group, ci_m, e.z) * Sm.excitation_density(group, ci_m, e.z, e.rho_i);
