@@ -5,12 +5,14 @@
 
 #include <cstdio>
 #include <memory>
+#include <thread>
 
 #include "renderer/cli/commands.h"
 #include "renderer/core/error.h"
 #include "renderer/core/message_text.h"
 #include "renderer/core/memory_limit.h"
 #include "renderer/core/progress.h"
+#include "renderer/image/spectral_exr.h"
 
 int main(int argc, char** argv) {
   CLI::App app{"oralfluor: spectral path tracer and camera simulator for oral fluorescence imaging"};
@@ -36,6 +38,9 @@ int main(int argc, char** argv) {
     if (ofl::global_options().threads > 0)
       threads = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
                                                       ofl::global_options().threads);
+    // EXR files are (de)compressed on as many threads as the render uses.
+    const int n = ofl::global_options().threads > 0 ? ofl::global_options().threads : int(std::thread::hardware_concurrency());
+    ofl::set_exr_threads(n > 1 ? n : 0);
     ofl::install_interrupt_handler();
   });
   try {

@@ -7,6 +7,7 @@
 #include <ImfInputFile.h>
 #include <ImfOutputFile.h>
 #include <ImfStringAttribute.h>
+#include <ImfThreading.h>
 
 #include <algorithm>
 #include <cstdio>
@@ -138,6 +139,8 @@ std::string encode_spectral_exr(const SpectralImage& img, const std::string& fil
 void write_spectral_exr(const std::filesystem::path& file, const SpectralImage& img) {
   write_file_atomic(file, encode_spectral_exr(img, file.string()));
 }
+
+void set_exr_threads(int threads) { Imf::setGlobalThreadCount(std::max(0, threads)); }
 
 std::string spectral_exr_bytes(const SpectralImage& img) { return encode_spectral_exr(img, "(memory)"); }
 

@@ -17,6 +17,10 @@ std::string spectral_channel_name(double nm);
 // Parses "S0.550,000000nm" (comma or point) into 550; false when the name is not an S0 channel.
 bool parse_spectral_channel_name(const std::string& name, double* nm);
 
+// OpenEXR compresses and decompresses the chunks of a file on this many threads (0: on the caller's
+// alone, OpenEXR's default). The bytes written are the same for any count.
+void set_exr_threads(int threads);
+
 void write_spectral_exr(const std::filesystem::path& file, const SpectralImage& img);
 // The bytes write_spectral_exr would write (the same channels, layers, planes and attributes), for
 // callers that store them themselves (the sweep's render cache writes them atomically).

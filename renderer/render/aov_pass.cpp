@@ -3,6 +3,8 @@
 #include <tbb/parallel_for.h>
 
 #include <cmath>
+#include <memory>
+#include <vector>
 
 #include <glm/geometric.hpp>
 
@@ -11,11 +13,11 @@
 
 namespace ofl {
 
-double led_irradiance(const Scene& scene, const EmbreeScene& embree, const SurfacePoint& sp) {
-  double e = 0;
+std::vector<std::vector<glm::dvec3>> led_sample_points(const Scene& scene) {
+  std::vector<std::vector<glm::dvec3>> out;
   for (const LedLight& l : scene.lights) {
-    int n = l.is_point() ? 1 : 3;
-    double sum = 0;
+    out.emplace_back();
+    const int n = l.is_point() ? 1 : 3;
     for (int a = 0; a < n; ++a)
       for (int b = 0; b < n; ++b) {
         glm::dvec3 p = l.position;
@@ -23,16 +25,58 @@ double led_irradiance(const Scene& scene, const EmbreeScene& embree, const Surfa
           glm::dvec2 d = sample_concentric_disk((a + 0.5) / n, (b + 0.5) / n) * l.radius_m;
           p += d.x * l.tangent + d.y * l.bitangent;
         }
-        glm::dvec3 to = p - sp.p;
-        double d2 = glm::dot(to, to), d = std::sqrt(d2);
-        glm::dvec3 w = to / d;
-        double cos_s = glm::dot(w, sp.ns), cos_l = -glm::dot(w, l.axis);
-        if (cos_s <= 0 || cos_l <= 0 || glm::dot(w, sp.ng) <= 0) continue;
-        glm::dvec3 o = EmbreeScene::offset(sp, w);
-        if (embree.occluded(o, w, float(glm::length(p - o) * (1 - 1e-4)))) continue;
-        sum += l.intensity_W_sr * l.profile.eval(cos_l) * cos_s / d2;
+        out.back().push_back(p);
       }
-    e += sum / (n * n);
+  }
+  return out;
+}
+
+double led_irradiance(const Scene& scene, const EmbreeScene& embree, const SurfacePoint& sp,
+                      const std::vector<std::vector<glm::dvec3>>& points) {
+  // Every shadow ray of the point is traced in one stream (they share an origin and head for a few
+  // small discs, so Embree traces them as packets); the sums are taken in the same order as the
+  // rays were made, so the value does not depend on how they were traced.
+  struct Ray {
+    glm::dvec3 o, w;
+    float tmax;
+    double value;
+    size_t light;
+  };
+  thread_local std::vector<Ray> rays;
+  thread_local std::vector<glm::dvec3> o, w;
+  thread_local std::vector<float> tmax;
+  rays.clear();
+  for (size_t li = 0; li < scene.lights.size(); ++li) {
+    const LedLight& l = scene.lights[li];
+    for (const glm::dvec3& p : points[li]) {
+      glm::dvec3 to = p - sp.p;
+      double d2 = glm::dot(to, to), d = std::sqrt(d2);
+      glm::dvec3 dir = to / d;
+      double cos_s = glm::dot(dir, sp.ns), cos_l = -glm::dot(dir, l.axis);
+      if (cos_s <= 0 || cos_l <= 0 || glm::dot(dir, sp.ng) <= 0) continue;
+      glm::dvec3 org = EmbreeScene::offset(sp, dir);
+      rays.push_back({org, dir, float(glm::length(p - org) * (1 - 1e-4)),
+                      l.intensity_W_sr * l.profile.eval(cos_l) * cos_s / d2, li});
+    }
+  }
+  const int nr = int(rays.size());
+  o.resize(rays.size());
+  w.resize(rays.size());
+  tmax.resize(rays.size());
+  for (int i = 0; i < nr; ++i) {
+    o[size_t(i)] = rays[size_t(i)].o;
+    w[size_t(i)] = rays[size_t(i)].w;
+    tmax[size_t(i)] = rays[size_t(i)].tmax;
+  }
+  std::unique_ptr<bool[]> blocked(new bool[rays.size() + 1]);
+  embree.occluded_many(o.data(), w.data(), tmax.data(), nr, blocked.get());
+  double e = 0;
+  size_t i = 0;
+  for (size_t li = 0; li < scene.lights.size(); ++li) {
+    double sum = 0;
+    for (; i < rays.size() && rays[i].light == li; ++i)
+      if (!blocked[i]) sum += rays[i].value;
+    e += sum / double(points[li].size());
   }
   return e;
 }
@@ -67,23 +111,27 @@ std::map<std::string, std::vector<float>> compute_aovs(const Scene& scene, const
   glm::dvec3 r = glm::normalize(glm::cross(f, c.up));
   glm::dvec3 u = glm::cross(r, f);
   double th = std::tan(0.5 * c.vfov_deg * kPi / 180.0), tw = th * double(W) / H;
+  float *material = out["aov.material"].data(), *u_plane = out["aov.u"].data(), *v_plane = out["aov.v"].data(),
+        *depth = out["aov.depth"].data(), *cos_view = out["aov.cos_view"].data(),
+        *irradiance = out["aov.irradiance"].data();
+  const auto led_points = led_sample_points(scene);
   tbb::parallel_for(0, H, [&](int y) {
     if (interrupt_requested()) return;
     for (int x = 0; x < W; ++x) {
       size_t i = size_t(y) * W + x;
       glm::dvec3 d = glm::normalize(f + (2.0 * (x + 0.5) / W - 1.0) * tw * r + (1.0 - 2.0 * (y + 0.5) / H) * th * u);
       RayHit h = embree.intersect(c.position, d);
-      if (!h.found()) { out["aov.material"][i] = -1; continue; }
+      if (!h.found()) { material[i] = -1; continue; }
       const GeomInfo& gi = embree.info(h.geom);
-      out["aov.depth"][i] = h.t;
-      if (gi.kind == GeomInfo::Kind::kLed) { out["aov.material"][i] = -2; continue; }
+      depth[i] = h.t;
+      if (gi.kind == GeomInfo::Kind::kLed) { material[i] = -2; continue; }
       SurfacePoint sp = embree.surface(h, c.position, d);
       if (glm::dot(sp.ng, -d) < 0) { sp.ng = -sp.ng; sp.ns = -sp.ns; }
-      out["aov.material"][i] = float(sp.material);
-      out["aov.u"][i] = sp.uv.x;
-      out["aov.v"][i] = sp.uv.y;
-      out["aov.cos_view"][i] = float(glm::dot(sp.ns, -d));
-      out["aov.irradiance"][i] = float(led_irradiance(scene, embree, sp));
+      material[i] = float(sp.material);
+      u_plane[i] = sp.uv.x;
+      v_plane[i] = sp.uv.y;
+      cos_view[i] = float(glm::dot(sp.ns, -d));
+      irradiance[i] = float(led_irradiance(scene, embree, sp, led_points));
     }
   });
   if (interrupt_requested()) out.clear();

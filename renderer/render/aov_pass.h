@@ -25,8 +25,12 @@ struct ViewProbe {
 };
 ViewProbe probe_view(const Scene& scene, const EmbreeScene& embree, int n = 16);
 
-// LED irradiance at point p with normal n (W m^-2, all lights, shadowed); disk LEDs are
-// integrated with a fixed 3 x 3 stratified pattern.
-double led_irradiance(const Scene& scene, const EmbreeScene& embree, const SurfacePoint& sp);
+// The points each LED is integrated over: its position for a point LED, a fixed 3 x 3 stratified
+// pattern on the disc of a disc LED.
+std::vector<std::vector<glm::dvec3>> led_sample_points(const Scene& scene);
+// LED irradiance at the surface point (W m^-2, all lights, shadowed), each LED the mean over its
+// points (led_sample_points).
+double led_irradiance(const Scene& scene, const EmbreeScene& embree, const SurfacePoint& sp,
+                      const std::vector<std::vector<glm::dvec3>>& points);
 
 }  // namespace ofl

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include <glm/geometric.hpp>
 
@@ -108,6 +109,28 @@ bool EmbreeScene::occluded(const glm::dvec3& o, const glm::dvec3& d, float tmax)
   r.flags = 0;
   rtcOccluded1(scene_, &ctx, &r);
   return r.tfar < 0.0f;
+}
+
+void EmbreeScene::occluded_many(const glm::dvec3* o, const glm::dvec3* d, const float* tmax, int n,
+                                bool* blocked) const {
+  if (n <= 0) return;
+  RTCIntersectContext ctx;
+  rtcInitIntersectContext(&ctx);
+  ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+  std::vector<RTCRay> rays(static_cast<size_t>(n));
+  for (int i = 0; i < n; ++i) {
+    RTCRay& r = rays[size_t(i)];
+    r.org_x = float(o[i].x); r.org_y = float(o[i].y); r.org_z = float(o[i].z);
+    r.dir_x = float(d[i].x); r.dir_y = float(d[i].y); r.dir_z = float(d[i].z);
+    r.tnear = 0.0f;
+    r.tfar = tmax[i];
+    r.time = 0.0f;
+    r.mask = 0xFFFFFFFFu;
+    r.id = unsigned(i);
+    r.flags = 0;
+  }
+  rtcOccluded1M(scene_, &ctx, rays.data(), unsigned(n), sizeof(RTCRay));
+  for (int i = 0; i < n; ++i) blocked[i] = rays[size_t(i)].tfar < 0.0f;
 }
 
 SurfacePoint EmbreeScene::surface(const RayHit& h, const glm::dvec3& o, const glm::dvec3& d) const {

@@ -47,6 +47,9 @@ class EmbreeScene {
 
   RayHit intersect(const glm::dvec3& o, const glm::dvec3& d, float tmax = 1e30f) const;
   bool occluded(const glm::dvec3& o, const glm::dvec3& d, float tmax) const;
+  // Many shadow rays at once through Embree's stream API (rays from nearby origins toward nearby
+  // points are traced as packets): blocked[i] is occluded(o[i], d[i], tmax[i]).
+  void occluded_many(const glm::dvec3* o, const glm::dvec3* d, const float* tmax, int n, bool* blocked) const;
 
   const GeomInfo& info(unsigned geom) const { return info_[geom]; }
   size_t geometries() const { return info_.size(); }
