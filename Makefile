@@ -12,8 +12,9 @@ all: build
 deps:
 	@./.ci/install-deps.sh
 
+# Configured once: a configured tree re-runs CMake by itself when a CMakeLists.txt changes.
 configure: deps
-	@cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release > $(BUILD).configure.log 2>&1 || { cat $(BUILD).configure.log; exit 1; }
+	@test -f $(BUILD)/Makefile || cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release > $(BUILD).configure.log 2>&1 || { cat $(BUILD).configure.log; exit 1; }
 
 build: configure
 	cmake --build $(BUILD) -j $(JOBS)
