@@ -114,6 +114,34 @@ TEST(LedProfileTable, MaxBeyondBoundsEveryLargerAngle) {
   EXPECT_EQ(cosm.max_beyond(-0.1), 0.0);
 }
 
+// The cos^m profile's bound for light selection, read from a table instead of computed with pow:
+// never below c^m (closed form), positive wherever c^m is (even for a power steep enough that the
+// table's low cosines underflow), within (1 + 1 / bins)^m of it where c >= 1/2, and the exact
+// value again once cos_power changes after the table was made.
+TEST(LedProfileTable, ChoiceBoundOfAPowerIsATightBound) {
+  Rng r(5, 3);
+  const double N = LedProfile::kPowerBoundBins;
+  for (double m : {0.0, 1.0, 4.8, 57.0, 1e4}) {
+    LedProfile p;
+    p.cos_power = m;
+    p.index_table();
+    for (int i = 0; i < 20000; ++i) {
+      const double c = 1.2 * r.next_double() - 0.2, exact = c > 0 ? std::pow(c, m) : 0.0;
+      const double b = p.choice_bound(c);
+      ASSERT_GE(b, exact) << "m " << m << " cos " << c;
+      if (exact > 0) ASSERT_GT(b, 0.0) << "m " << m << " cos " << c;
+      if (c <= 0) ASSERT_EQ(b, 0.0);
+      if (c >= 0.5 && m < 100) ASSERT_LE(b, exact * std::pow(1.0 + 1.0 / (N * c), m) * (1 + 1e-12)) << "m " << m << " cos " << c;
+    }
+    EXPECT_EQ(p.choice_bound(1.0), 1.0);
+  }
+  LedProfile p;
+  p.cos_power = 3.0;
+  p.index_table();
+  p.cos_power = 7.3;  // changed after the table: the bound is the exact power again
+  EXPECT_DOUBLE_EQ(p.choice_bound(0.8), std::pow(0.8, 7.3));
+}
+
 TEST(LedProfileTable, ZeroAtOrBelowItsSupport) {
   LedProfile p = spot_table(30, 35);
   EXPECT_NEAR(p.zero_at_or_below, std::cos(35 * kPi / 180), 1e-12);

@@ -60,7 +60,22 @@ double LedProfile::max_beyond(double c) const {
   return env[knot_above(*this, c)];
 }
 
+double LedProfile::choice_bound(double c) const {
+  if (!table_cos.empty() || power_bound_m != cos_power || power_bound.size() != size_t(kPowerBoundBins) + 1)
+    return max_beyond(c);
+  if (c <= 0) return 0.0;
+  const size_t k = std::min<size_t>(size_t(std::ceil(c * kPowerBoundBins)), size_t(kPowerBoundBins));
+  const double v = power_bound[k];
+  return v > 0 ? v : max_beyond(c);  // underflow of a steep power: the exact value
+}
+
 void LedProfile::index_table() {
+  power_bound.clear();
+  power_bound_m = -1;
+  if (table_cos.empty()) {
+    for (int k = 0; k <= kPowerBoundBins; ++k) power_bound.push_back(std::pow(double(k) / kPowerBoundBins, cos_power));
+    power_bound_m = cos_power;
+  }
   table_start.clear();
   table_envelope.clear();
   if (table_cos.size() < 2) return;
@@ -121,7 +136,7 @@ double LedLight::irradiance_bound(const glm::dvec3& p, const glm::dvec3& ns, con
   const double sin_spread = radius_m / d, cos_spread = std::sqrt(1.0 - sin_spread * sin_spread);
   const double s = cos_less(cos_s, sin_spread, cos_spread), g = cos_less(cos_g, sin_spread, cos_spread);
   if (!(s > 0 && g > 0)) return 0.0;
-  const double prof = profile.max_beyond(cos_less(cos_l, sin_spread, cos_spread));
+  const double prof = profile.choice_bound(cos_less(cos_l, sin_spread, cos_spread));
   return intensity_W_sr * prof * s / d2;
 }
 
@@ -190,10 +205,12 @@ static LedProfile parse_profile(const JsonNode& n) {
   if (given != 1) n.fail("give exactly one of half_angle_deg, cos_power, table, table_file, ies_file");
   if (auto h = n.find("half_angle_deg")) {
     p.cos_power = LedProfile::cos_power_from_half_angle(h->number(0.5, 89.5));
+    p.index_table();
     return p;
   }
   if (auto m = n.find("cos_power")) {
     p.cos_power = m->number(0.0, 1e4);
+    p.index_table();
     return p;
   }
   std::vector<std::pair<double, double>> rows;  // (angle_deg, relative)

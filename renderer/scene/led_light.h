@@ -33,8 +33,17 @@ struct LedProfile {
   // cos^m; 0 only where P is 0 at theta and at every larger angle. For light selection over the
   // directions a disk emitter covers (renderer/render/light_choice.h).
   double max_beyond(double cos_theta) const;
+  // A bound of max_beyond for light selection, cheaper: for a cos^m profile read from power_bound
+  // (the power at the first tabulated cosine at or above cos_theta, at most a few % above c^m near
+  // the axis), otherwise max_beyond itself. Never below max_beyond, and positive wherever it is.
+  double choice_bound(double cos_theta) const;
+  // Filled by index_table() for a cos^m profile: c^m at kPowerBoundBins + 1 cosines spaced evenly
+  // over [0, 1], for the power power_bound_m (choice_bound ignores it once cos_power has changed).
+  static constexpr int kPowerBoundBins = 256;
+  std::vector<double> power_bound;
+  double power_bound_m = -1;
   double solid_angle_integral() const;  // integral of P over the sphere (sr)
-  void index_table();                   // fills table_start and table_envelope
+  void index_table();                   // fills table_start, table_envelope and power_bound
   static double cos_power_from_half_angle(double half_angle_deg);  // cos^m(half) = 1/2
 };
 
