@@ -136,17 +136,50 @@ std::vector<uint32_t> triangulate_polygon(const std::vector<glm::dvec3>& c) {
   return tris;
 }
 
-ObjContents parse_obj(const std::string& text, const std::string& name) {
-  Parser ps(name);
+namespace {
+
+// What the statements of an OBJ file hold, before triangulation.
+struct ObjStatements {
   std::vector<glm::dvec3> pos, nrm;
   std::vector<glm::dvec2> tex;
   std::vector<Face> faces;
   std::vector<std::pair<std::string, std::string>> keys;  // (group, material) per mesh
+  bool all_normals = true;
+};
+
+// One "f" statement's corners ("v", "v/vt", "v//vn", "v/vt/vn"), indices checked against what
+// came before it.
+Face parse_face(const std::vector<std::string_view>& tok, Parser& ps, ObjStatements& st) {
+  if (tok.size() < 4) ps.fail("a face needs at least 3 corners");
+  Face f;
+  for (size_t i = 1; i < tok.size(); ++i) {
+    std::string_view t = tok[i];
+    Corner c;
+    size_t s1 = t.find('/');
+    c.v = ps.index(t.substr(0, s1), st.pos.size(), "vertex");
+    if (s1 != std::string_view::npos) {
+      std::string_view rest = t.substr(s1 + 1);
+      size_t s2 = rest.find('/');
+      std::string_view vt = rest.substr(0, s2);
+      if (!vt.empty()) c.vt = ps.index(vt, st.tex.size(), "texture coordinate");
+      if (s2 != std::string_view::npos) {
+        std::string_view vn = rest.substr(s2 + 1);
+        if (!vn.empty()) c.vn = ps.index(vn, st.nrm.size(), "normal");
+      }
+    }
+    st.all_normals &= c.vn >= 0;
+    f.corners.push_back(c);
+  }
+  return f;
+}
+
+// Every statement of the text, line by line; counts what it ignores and the polygons it will
+// triangulate into `out`.
+ObjStatements read_statements(const std::string& text, const std::string& name, ObjContents& out) {
+  Parser ps(name);
+  ObjStatements st;
   std::map<std::pair<std::string, std::string>, size_t> key_index;
   std::string group = "default", material;
-  ObjContents out;
-  bool all_normals = true;
-
   size_t line_no = 0, start = 0;
   while (start <= text.size()) {
     size_t end = text.find('\n', start);
@@ -164,40 +197,21 @@ ObjContents parse_obj(const std::string& text, const std::string& name) {
     std::string_view kw = tok[0];
     if (kw == "v") {
       if (tok.size() < 4) ps.fail("a vertex needs x y z");
-      pos.push_back({ps.number(tok[1], "x"), ps.number(tok[2], "y"), ps.number(tok[3], "z")});
+      st.pos.push_back({ps.number(tok[1], "x"), ps.number(tok[2], "y"), ps.number(tok[3], "z")});
     } else if (kw == "vt") {
       if (tok.size() < 2) ps.fail("a texture coordinate needs u [v]");
-      tex.push_back({ps.number(tok[1], "u"), tok.size() > 2 ? ps.number(tok[2], "v") : 0.0});
+      st.tex.push_back({ps.number(tok[1], "u"), tok.size() > 2 ? ps.number(tok[2], "v") : 0.0});
     } else if (kw == "vn") {
       if (tok.size() < 4) ps.fail("a normal needs x y z");
-      nrm.push_back({ps.number(tok[1], "x"), ps.number(tok[2], "y"), ps.number(tok[3], "z")});
+      st.nrm.push_back({ps.number(tok[1], "x"), ps.number(tok[2], "y"), ps.number(tok[3], "z")});
     } else if (kw == "f") {
-      if (tok.size() < 4) ps.fail("a face needs at least 3 corners");
-      Face f;
-      for (size_t i = 1; i < tok.size(); ++i) {
-        std::string_view t = tok[i];
-        Corner c;
-        size_t s1 = t.find('/');
-        c.v = ps.index(t.substr(0, s1), pos.size(), "vertex");
-        if (s1 != std::string_view::npos) {
-          std::string_view rest = t.substr(s1 + 1);
-          size_t s2 = rest.find('/');
-          std::string_view vt = rest.substr(0, s2);
-          if (!vt.empty()) c.vt = ps.index(vt, tex.size(), "texture coordinate");
-          if (s2 != std::string_view::npos) {
-            std::string_view vn = rest.substr(s2 + 1);
-            if (!vn.empty()) c.vn = ps.index(vn, nrm.size(), "normal");
-          }
-        }
-        all_normals &= c.vn >= 0;
-        f.corners.push_back(c);
-      }
+      Face f = parse_face(tok, ps, st);
       auto key = std::make_pair(group, material);
-      auto [it, fresh] = key_index.emplace(key, keys.size());
-      if (fresh) keys.push_back(key);
+      auto [it, fresh] = key_index.emplace(key, st.keys.size());
+      if (fresh) st.keys.push_back(key);
       f.mesh = it->second;
       if (f.corners.size() > 3) ++out.polygons_triangulated;
-      faces.push_back(std::move(f));
+      st.faces.push_back(std::move(f));
     } else if (kw == "g" || kw == "o") {
       group = tok.size() > 1 ? std::string(tok[1]) : "default";
     } else if (kw == "usemtl") {
@@ -207,53 +221,56 @@ ObjContents parse_obj(const std::string& text, const std::string& name) {
     }
     if (end == text.size()) break;
   }
-  out.positions = pos.size();
-  out.texcoords = tex.size();
-  out.normals = nrm.size();
-  out.faces = faces.size();
-  out.had_normals = all_normals && !faces.empty();
+  return st;
+}
 
-  // Triangulate, and compute smooth normals per position index when the file gave none.
-  std::vector<std::vector<uint32_t>> face_tris(faces.size());
-  std::vector<glm::dvec3> smooth(pos.size(), glm::dvec3(0.0));
-  for (size_t fi = 0; fi < faces.size(); ++fi) {
-    const auto& f = faces[fi];
+// Each face's triangles (corner indices), and the smooth normal per position index (the sum of
+// the area-weighted normals of the triangles that use it) for files that give none.
+void triangulate_faces(const ObjStatements& st, std::vector<std::vector<uint32_t>>& face_tris,
+                       std::vector<glm::dvec3>& smooth) {
+  face_tris.assign(st.faces.size(), {});
+  smooth.assign(st.pos.size(), glm::dvec3(0.0));
+  for (size_t fi = 0; fi < st.faces.size(); ++fi) {
+    const auto& f = st.faces[fi];
     std::vector<glm::dvec3> corners;
-    for (auto& c : f.corners) corners.push_back(pos[c.v]);
+    for (auto& c : f.corners) corners.push_back(st.pos[c.v]);
     face_tris[fi] = triangulate_polygon(corners);
     for (size_t t = 0; t + 2 < face_tris[fi].size(); t += 3) {
       const auto& a = f.corners[face_tris[fi][t]];
       const auto& b = f.corners[face_tris[fi][t + 1]];
       const auto& d = f.corners[face_tris[fi][t + 2]];
-      glm::dvec3 n = glm::cross(pos[b.v] - pos[a.v], pos[d.v] - pos[a.v]);
+      glm::dvec3 n = glm::cross(st.pos[b.v] - st.pos[a.v], st.pos[d.v] - st.pos[a.v]);
       smooth[a.v] += n;
       smooth[b.v] += n;
       smooth[d.v] += n;
     }
   }
+}
 
-  // Build one mesh per (group, material), welding corners with the same position index, UV
-  // value and normal.
-  out.meshes.resize(keys.size());
-  std::vector<std::map<std::tuple<long, float, float, long>, uint32_t>> welds(keys.size());
-  for (size_t k = 0; k < keys.size(); ++k) {
-    out.meshes[k].name = keys[k].first;
-    out.meshes[k].material = keys[k].second;
+// One mesh per (group, material), welding corners with the same position index, UV value and
+// normal.
+void build_meshes(const ObjStatements& st, const std::vector<std::vector<uint32_t>>& face_tris,
+                  const std::vector<glm::dvec3>& smooth, ObjContents& out) {
+  out.meshes.resize(st.keys.size());
+  std::vector<std::map<std::tuple<long, float, float, long>, uint32_t>> welds(st.keys.size());
+  for (size_t k = 0; k < st.keys.size(); ++k) {
+    out.meshes[k].name = st.keys[k].first;
+    out.meshes[k].material = st.keys[k].second;
   }
-  bool any_uv = !tex.empty();
-  for (size_t fi = 0; fi < faces.size(); ++fi) {
-    const auto& f = faces[fi];
+  bool any_uv = !st.tex.empty();
+  for (size_t fi = 0; fi < st.faces.size(); ++fi) {
+    const auto& f = st.faces[fi];
     auto& m = out.meshes[f.mesh];
     auto& weld = welds[f.mesh];
     for (uint32_t ci : face_tris[fi]) {
       const Corner& c = f.corners[ci];
       glm::vec2 uv(0.0f);
-      if (c.vt >= 0) uv = glm::vec2(static_cast<float>(tex[c.vt].x), static_cast<float>(1.0 - tex[c.vt].y));
+      if (c.vt >= 0) uv = glm::vec2(static_cast<float>(st.tex[c.vt].x), static_cast<float>(1.0 - st.tex[c.vt].y));
       auto key = std::make_tuple(c.v, uv.x, uv.y, c.vn);
       auto [it, fresh] = weld.emplace(key, static_cast<uint32_t>(m.positions.size()));
       if (fresh) {
-        m.positions.push_back(glm::vec3(pos[c.v]));
-        glm::dvec3 n = c.vn >= 0 ? nrm[c.vn] : smooth[c.v];
+        m.positions.push_back(glm::vec3(st.pos[c.v]));
+        glm::dvec3 n = c.vn >= 0 ? st.nrm[c.vn] : smooth[c.v];
         double len = glm::length(n);
         m.normals.push_back(len > 0 ? glm::vec3(n / len) : glm::vec3(0, 0, 1));
         if (any_uv) m.uvs.push_back(uv);
@@ -261,6 +278,22 @@ ObjContents parse_obj(const std::string& text, const std::string& name) {
       m.indices.push_back(it->second);
     }
   }
+}
+
+}  // namespace
+
+ObjContents parse_obj(const std::string& text, const std::string& name) {
+  ObjContents out;
+  const ObjStatements st = read_statements(text, name, out);
+  out.positions = st.pos.size();
+  out.texcoords = st.tex.size();
+  out.normals = st.nrm.size();
+  out.faces = st.faces.size();
+  out.had_normals = st.all_normals && !st.faces.empty();
+  std::vector<std::vector<uint32_t>> face_tris;
+  std::vector<glm::dvec3> smooth;
+  triangulate_faces(st, face_tris, smooth);
+  build_meshes(st, face_tris, smooth, out);
   return out;
 }
 
