@@ -85,6 +85,117 @@ void check_scanline_chunks(std::ifstream& in, const std::string& f, uint64_t siz
   }
 }
 
+// The header's bytes, read in order: `pos` is where the next read starts.
+struct HeaderReader {
+  std::ifstream& in;
+  const std::string& f;
+  uint64_t size = 0, pos = 8;
+  size_t max_name = 31;
+
+  std::string name(const char* what) {
+    std::string s;
+    for (;;) {
+      int c = in.get();
+      if (c == EOF) throw InputError(f, "header", std::string("truncated EXR header (inside an attribute ") + what + ")");
+      ++pos;
+      if (c == 0) return s;
+      s += char(c);
+      if (s.size() > max_name) throw InputError(f, "header", std::string("attribute ") + what + " \"" + printable(s) + "\" is too long");
+    }
+  }
+  int32_t i32() {
+    unsigned char b[4];
+    if (!in.read(reinterpret_cast<char*>(b), 4)) throw InputError(f, "header", "truncated EXR header");
+    pos += 4;
+    return int32_t(uint32_t(b[0]) | uint32_t(b[1]) << 8 | uint32_t(b[2]) << 16 | uint32_t(b[3]) << 24);
+  }
+  void skip_to(uint64_t at) {
+    pos = at;
+    in.seekg(std::streamoff(pos));
+  }
+};
+
+// A channel list of n bytes: name\0 + 16 bytes per channel, ended by an empty name.
+void read_channel_list(HeaderReader& r, int32_t n, const std::string& field, ExrHeaderInfo& info) {
+  uint64_t end = r.pos + uint64_t(n);
+  while (r.pos < end) {
+    int c = r.in.get();
+    ++r.pos;
+    if (c == 0) break;
+    std::string cname(1, char(c));
+    for (int k; (k = r.in.get()) != 0;) {
+      if (k == EOF || r.pos >= end) throw InputError(r.f, field, "truncated channel list");
+      ++r.pos;
+      cname += char(k);
+    }
+    ++r.pos;
+    r.in.seekg(16, std::ios::cur);
+    r.pos += 16;
+    ++info.channels;
+  }
+  if (r.pos != end) throw InputError(r.f, field, "channel list does not match its size");
+  r.in.seekg(std::streamoff(r.pos));
+}
+
+// The sizes inside a preview (width x height x 4 bytes) or a string vector (its strings' lengths)
+// against the attribute's n bytes.
+void check_inner_sizes(HeaderReader& r, const std::string& type, int32_t n, const std::string& field) {
+  const uint64_t end = r.pos + uint64_t(n);
+  if (type == "preview") {
+    if (n < 8) throw InputError(r.f, field, "preview shorter than its dimensions");
+    uint64_t w = uint32_t(r.i32()), h = uint32_t(r.i32());
+    if (w * h * 4 != end - r.pos) throw InputError(r.f, field, "preview of " + std::to_string(w) + "x" + std::to_string(h) + " pixels does not match its size");
+  } else {
+    while (r.pos < end) {
+      if (end - r.pos < 4) throw InputError(r.f, field, "truncated string vector");
+      int32_t len = r.i32();
+      if (len < 0 || uint64_t(len) > end - r.pos) throw InputError(r.f, field, "string vector entry runs past the attribute");
+      r.skip_to(r.pos + uint64_t(len));
+    }
+  }
+  r.skip_to(end);
+}
+
+// One attribute of part `part`; false at the empty name that ends the part's header.
+bool read_attribute(HeaderReader& r, int part, ExrHeaderInfo& info, int& compression) {
+  std::string name = r.name("name");
+  if (name.empty()) return false;
+  std::string type = r.name("type");
+  const std::string field = "header attribute \"" + printable(name) + "\"";
+  int32_t n = r.i32();
+  if (n < 0 || uint64_t(n) > r.size - r.pos)
+    throw InputError(r.f, field, "claims " + std::to_string(n) + " bytes but only " + std::to_string(r.size - r.pos) +
+                                     " bytes of the file are left");
+  if ((type == "string" || type == "stringvector") && n > kMaxExrStringAttribute)
+    throw InputError(r.f, field, "string of " + format_bytes(double(n)) + " exceeds the limit of " +
+                                     format_bytes(double(kMaxExrStringAttribute)));
+  // OpenEXR reads a value of a fixed-size type by its type, not by the size field: a size
+  // that disagrees makes its walk and this one part ways (found by fuzz_spectral_exr: a
+  // lineOrder of "65 bytes" hid a 2 GB string from this check). Such sizes are errors.
+  if (int expected = fixed_size(type); expected >= 0 && n != expected)
+    throw InputError(r.f, field, "a " + printable(type) + " value has " + std::to_string(expected) + " bytes, the header says " +
+                                     std::to_string(n));
+  if (part == 0 && name == "dataWindow" && type == "box2i" && n == 16) {
+    int64_t x0 = r.i32(), y0 = r.i32(), x1 = r.i32(), y1 = r.i32();
+    if (x1 < x0 || y1 < y0) throw InputError(r.f, field, "empty or inverted data window");
+    info.width = x1 - x0 + 1;
+    info.height = y1 - y0 + 1;
+  } else if (part == 0 && name == "channels" && type == "chlist") {
+    read_channel_list(r, n, field, info);
+  } else if (part == 0 && name == "compression" && type == "compression" && n == 1) {
+    int c = r.in.get();
+    ++r.pos;
+    if (c == EOF) throw InputError(r.f, field, "truncated EXR header");
+    compression = c;
+  } else if (type == "preview" || type == "stringvector") {
+    check_inner_sizes(r, type, n, field);
+  } else {
+    r.skip_to(r.pos + uint64_t(n));
+  }
+  if (!r.in) throw InputError(r.f, field, "truncated EXR header");
+  return true;
+}
+
 }  // namespace
 
 ExrHeaderInfo check_exr_header(const std::filesystem::path& file) {
@@ -100,110 +211,20 @@ ExrHeaderInfo check_exr_header(const std::filesystem::path& file) {
   const std::string f = file.string();
   const uint32_t flags = uint32_t(head[5]) << 8 | uint32_t(head[6]) << 16 | uint32_t(head[7]) << 24;
   const bool multipart = flags & 0x1000;
-  const size_t max_name = (flags & 0x400) ? 255 : 31;
-  uint64_t pos = 8;
+  HeaderReader r{in, f};
+  r.size = size;
+  r.max_name = (flags & 0x400) ? 255 : 31;
   int compression = -1;
-
-  auto read_name = [&](const char* what) {
-    std::string s;
-    for (;;) {
-      int c = in.get();
-      if (c == EOF) throw InputError(f, "header", std::string("truncated EXR header (inside an attribute ") + what + ")");
-      ++pos;
-      if (c == 0) return s;
-      s += char(c);
-      if (s.size() > max_name) throw InputError(f, "header", std::string("attribute ") + what + " \"" + printable(s) + "\" is too long");
-    }
-  };
-  auto read_i32 = [&]() {
-    unsigned char b[4];
-    if (!in.read(reinterpret_cast<char*>(b), 4)) throw InputError(f, "header", "truncated EXR header");
-    pos += 4;
-    return int32_t(uint32_t(b[0]) | uint32_t(b[1]) << 8 | uint32_t(b[2]) << 16 | uint32_t(b[3]) << 24);
-  };
-
   for (int part = 0;; ++part) {
     bool first_attribute = true;
-    for (;;) {
-      std::string name = read_name("name");
-      if (name.empty()) break;
-      first_attribute = false;
-      std::string type = read_name("type");
-      const std::string field = "header attribute \"" + printable(name) + "\"";
-      int32_t n = read_i32();
-      if (n < 0 || uint64_t(n) > size - pos)
-        throw InputError(f, field, "claims " + std::to_string(n) + " bytes but only " + std::to_string(size - pos) +
-                                       " bytes of the file are left");
-      if ((type == "string" || type == "stringvector") && n > kMaxExrStringAttribute)
-        throw InputError(f, field, "string of " + format_bytes(double(n)) + " exceeds the limit of " +
-                                       format_bytes(double(kMaxExrStringAttribute)));
-      // OpenEXR reads a value of a fixed-size type by its type, not by the size field: a size
-      // that disagrees makes its walk and this one part ways (found by fuzz_spectral_exr: a
-      // lineOrder of "65 bytes" hid a 2 GB string from this check). Such sizes are errors.
-      if (int expected = fixed_size(type); expected >= 0 && n != expected)
-        throw InputError(f, field, "a " + printable(type) + " value has " + std::to_string(expected) + " bytes, the header says " +
-                                       std::to_string(n));
-      if (part == 0 && name == "dataWindow" && type == "box2i" && n == 16) {
-        int64_t x0 = read_i32(), y0 = read_i32(), x1 = read_i32(), y1 = read_i32();
-        if (x1 < x0 || y1 < y0) throw InputError(f, field, "empty or inverted data window");
-        info.width = x1 - x0 + 1;
-        info.height = y1 - y0 + 1;
-      } else if (part == 0 && name == "channels" && type == "chlist") {
-        // name\0 + 16 bytes per channel, ended by an empty name.
-        uint64_t end = pos + uint64_t(n);
-        while (pos < end) {
-          int c = in.get();
-          ++pos;
-          if (c == 0) break;
-          std::string cname(1, char(c));
-          for (int k; (k = in.get()) != 0;) {
-            if (k == EOF || pos >= end) throw InputError(f, field, "truncated channel list");
-            ++pos;
-            cname += char(k);
-          }
-          ++pos;
-          in.seekg(16, std::ios::cur);
-          pos += 16;
-          ++info.channels;
-        }
-        if (pos != end) throw InputError(f, field, "channel list does not match its size");
-        in.seekg(std::streamoff(pos));
-      } else if (part == 0 && name == "compression" && type == "compression" && n == 1) {
-        int c = in.get();
-        ++pos;
-        if (c == EOF) throw InputError(f, field, "truncated EXR header");
-        compression = c;
-      } else if (type == "preview" || type == "stringvector") {
-        // Sizes inside the value: a preview's width x height x 4 bytes, a string vector's lengths.
-        const uint64_t end = pos + uint64_t(n);
-        if (type == "preview") {
-          if (n < 8) throw InputError(f, field, "preview shorter than its dimensions");
-          uint64_t w = uint32_t(read_i32()), h = uint32_t(read_i32());
-          if (w * h * 4 != end - pos) throw InputError(f, field, "preview of " + std::to_string(w) + "x" + std::to_string(h) + " pixels does not match its size");
-        } else {
-          while (pos < end) {
-            if (end - pos < 4) throw InputError(f, field, "truncated string vector");
-            int32_t len = read_i32();
-            if (len < 0 || uint64_t(len) > end - pos) throw InputError(f, field, "string vector entry runs past the attribute");
-            pos += uint64_t(len);
-            in.seekg(std::streamoff(pos));
-          }
-        }
-        pos = end;
-        in.seekg(std::streamoff(pos));
-      } else {
-        pos += uint64_t(n);
-        in.seekg(std::streamoff(pos));
-      }
-      if (!in) throw InputError(f, field, "truncated EXR header");
-    }
+    while (read_attribute(r, part, info, compression)) first_attribute = false;
     if (!multipart) break;
     if (first_attribute) break;  // an empty header ends the list of parts
     if (part > 10000) throw InputError(f, "header", "more than 10000 parts");
   }
   // OpenEXR starts from a default header (64 x 64 pixels, ZIP) and overwrites what the file has.
   if (!multipart && !(flags & 0x200) && !(flags & 0x800))  // single-part scanline, not tiled, not deep
-    check_scanline_chunks(in, f, size, pos, info.height > 0 ? info.height : 64, compression >= 0 ? compression : 3);
+    check_scanline_chunks(in, f, size, r.pos, info.height > 0 ? info.height : 64, compression >= 0 ? compression : 3);
   if (info.width > 0)
     check_memory(f, "dataWindow",
                  double(info.width) * double(info.height) * double(std::max(info.channels, 1)) * sizeof(float),
