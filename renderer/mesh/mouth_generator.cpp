@@ -105,19 +105,22 @@ struct Region {
   int col0, cols;  // first column and number of quads across (columns wrap)
 };
 
-}  // namespace
-
-Mouth make_mouth(const MouthParams& p) {
-  validate_mouth_params(p, "mouth parameters");
-  Builder b(p);
-  const int n = p.segments;
+// The rings of the whole solid from the back of the head to the pharynx, and the rows where its
+// regions begin and end.
+struct Sections {
   std::vector<Ring> rows;
+  int skin_row0 = 0, lip_row0 = 0, cavity_row0 = 0, last_row = 0;
+};
 
+Sections section_rows(const Builder& b, const MouthParams& p) {
+  const int n = p.segments;
+  Sections s;
+  std::vector<Ring>& rows = s.rows;
   // 1. Back of the head block: a flat cap from the pole outwards, then the sides.
   const double xh = -p.head_depth_m, xf = -p.face_recess_m;
   for (int k = 0; k <= 4; ++k) rows.push_back(b.outer_ring(xh, k / 4.0));
   for (int k = 1; k <= 4; ++k) rows.push_back(b.outer_ring(xh + (xf - xh) * k / 4.0));
-  const int skin_row0 = 0;
+  s.skin_row0 = 0;
   // 2. Face plate: from the outer edge to the lip tube (entered at phi0, behind its outer side).
   const double phi0 = -kPi / 4;
   const Ring outer = b.outer_ring(xf), lip_start = b.lip_ring(phi0);
@@ -131,11 +134,11 @@ Mouth make_mouth(const MouthParams& p) {
     }
     rows.push_back(ring);
   }
-  const int lip_row0 = static_cast<int>(rows.size()) - 1;
+  s.lip_row0 = static_cast<int>(rows.size()) - 1;
   // 3. Lip tube from phi0 to 3 pi/2 in steps of pi/16 (so phi = pi, the opening, is a row).
   const int lip_steps = 28;
   for (int k = 1; k <= lip_steps; ++k) rows.push_back(b.lip_ring(phi0 + (1.5 * kPi - phi0) * k / lip_steps));
-  const int cavity_row0 = static_cast<int>(rows.size()) - 1;
+  s.cavity_row0 = static_cast<int>(rows.size()) - 1;
   // 4. Vestibule: blend from the back of the lips to the first full cavity section.
   const Ring lip_back = rows.back(), cav_front = b.cavity_ring(b.x_cavity);
   const int vest_steps = 12;
@@ -153,81 +156,101 @@ Mouth make_mouth(const MouthParams& p) {
   const int cav_steps = 40;
   for (int k = 1; k <= cav_steps; ++k) rows.push_back(b.cavity_ring(b.x_cavity + (b.x_back - b.x_cavity) * k / cav_steps));
   for (int k = 1; k <= 8; ++k) rows.push_back(b.cavity_ring(b.x_back, 1 - k / 8.0));
-  const int last_row = static_cast<int>(rows.size()) - 1;
+  s.last_row = static_cast<int>(rows.size()) - 1;
+  return s;
+}
 
-  // Float positions for the whole grid; the poles are exact single points.
-  std::vector<glm::vec3> pos(rows.size() * n);
-  for (size_t i = 0; i < rows.size(); ++i)
-    for (int j = 0; j < n; ++j) pos[i * n + j] = glm::vec3(rows[i][j]);
+// The two triangles of the quad (a, b, c, d), skipping any with two equal corners (at the poles).
+void add_quad(std::vector<uint32_t>& out, uint32_t a, uint32_t bb, uint32_t c, uint32_t d, bool flip,
+              const std::vector<glm::vec3>& P) {
+  uint32_t t1[3] = {a, c, bb}, t2[3] = {bb, c, d};
+  for (auto* t : {t1, t2}) {
+    if (P[t[0]] == P[t[1]] || P[t[1]] == P[t[2]] || P[t[0]] == P[t[2]]) continue;
+    if (flip) out.insert(out.end(), {t[0], t[2], t[1]});
+    else out.insert(out.end(), {t[0], t[1], t[2]});
+  }
+}
 
-  // One welded mesh of the whole solid: fixes the orientation and gives smooth normals.
+// One welded mesh of the whole solid (float positions; the poles are exact single points): it
+// fixes the orientation (`flip`: the rows wind inward) and gives smooth normals.
+TriangleMesh whole_solid(const Sections& s, int n, bool& flip) {
   TriangleMesh whole;
-  whole.positions = pos;
-  auto quad = [&](std::vector<uint32_t>& out, uint32_t a, uint32_t bb, uint32_t c, uint32_t d, bool flip,
-                  const std::vector<glm::vec3>& P) {
-    uint32_t t1[3] = {a, c, bb}, t2[3] = {bb, c, d};
-    for (auto* t : {t1, t2}) {
-      if (P[t[0]] == P[t[1]] || P[t[1]] == P[t[2]] || P[t[0]] == P[t[2]]) continue;
-      if (flip) out.insert(out.end(), {t[0], t[2], t[1]});
-      else out.insert(out.end(), {t[0], t[1], t[2]});
-    }
-  };
-  for (int i = 0; i < last_row; ++i)
+  whole.positions.resize(s.rows.size() * n);
+  for (size_t i = 0; i < s.rows.size(); ++i)
+    for (int j = 0; j < n; ++j) whole.positions[i * n + j] = glm::vec3(s.rows[i][j]);
+  for (int i = 0; i < s.last_row; ++i)
     for (int j = 0; j < n; ++j) {
       int j1 = (j + 1) % n;
-      quad(whole.indices, i * n + j, i * n + j1, (i + 1) * n + j, (i + 1) * n + j1, false, pos);
+      add_quad(whole.indices, i * n + j, i * n + j1, (i + 1) * n + j, (i + 1) * n + j1, false, whole.positions);
     }
-  const bool flip = enclosed_volume(whole) < 0;
+  flip = enclosed_volume(whole) < 0;
   if (flip) flip_mesh(whole);
   compute_smooth_normals(whole);
+  return whole;
+}
 
-  const int q = n / 8;
-  const Region regions[] = {
-      {"skin", "skin", skin_row0, lip_row0, 0, n},
-      {"upper_lip", "lips", lip_row0, cavity_row0, q, 4 * q},
-      {"lower_lip", "lips", lip_row0, cavity_row0, 5 * q, 4 * q},
-      {"cheek_left", "cheek", cavity_row0, last_row, 0, 2 * q},
-      {"palate", "palate", cavity_row0, last_row, 2 * q, 2 * q},
-      {"cheek_right", "cheek", cavity_row0, last_row, 4 * q, 2 * q},
-      {"floor", "floor", cavity_row0, last_row, 6 * q, 2 * q},
-  };
-  Mouth mouth;
-  for (const auto& reg : regions) {
-    TriangleMesh m;
-    m.name = reg.name;
-    m.material = reg.material;
-    const int nr = reg.row1 - reg.row0 + 1, nc = reg.cols + 1;
-    for (int i = 0; i < nr; ++i)
-      for (int c = 0; c < nc; ++c) {
-        size_t g = static_cast<size_t>(reg.row0 + i) * n + (reg.col0 + c) % n;
-        m.positions.push_back(whole.positions[g]);
-        m.normals.push_back(whole.normals[g]);
-        m.uvs.push_back(glm::vec2(static_cast<float>(static_cast<double>(c) / reg.cols),
-                                  static_cast<float>(static_cast<double>(i) / (nr - 1))));
-      }
-    for (int i = 0; i + 1 < nr; ++i)
-      for (int c = 0; c < reg.cols; ++c)
-        quad(m.indices, i * nc + c, i * nc + c + 1, (i + 1) * nc + c, (i + 1) * nc + c + 1, flip, m.positions);
-    mouth.parts.push_back(std::move(m));
-  }
+// A region of the whole solid as its own mesh, with the solid's normals and UVs over its grid.
+TriangleMesh region_mesh(const TriangleMesh& whole, const Region& reg, int n, bool flip) {
+  TriangleMesh m;
+  m.name = reg.name;
+  m.material = reg.material;
+  const int nr = reg.row1 - reg.row0 + 1, nc = reg.cols + 1;
+  for (int i = 0; i < nr; ++i)
+    for (int c = 0; c < nc; ++c) {
+      size_t g = static_cast<size_t>(reg.row0 + i) * n + (reg.col0 + c) % n;
+      m.positions.push_back(whole.positions[g]);
+      m.normals.push_back(whole.normals[g]);
+      m.uvs.push_back(glm::vec2(static_cast<float>(static_cast<double>(c) / reg.cols),
+                                static_cast<float>(static_cast<double>(i) / (nr - 1))));
+    }
+  for (int i = 0; i + 1 < nr; ++i)
+    for (int c = 0; c < reg.cols; ++c)
+      add_quad(m.indices, i * nc + c, i * nc + c + 1, (i + 1) * nc + c, (i + 1) * nc + c + 1, flip, m.positions);
+  return m;
+}
 
+// The named points other parts are placed at, and the procedural tongue with its tip and dorsum.
+void add_anchors_and_tongue(Mouth& mouth, const Builder& b, const MouthParams& p) {
   const MouthParams defaults;
   mouth.anchors.push_back({"opening_center", glm::dvec3(0.0)});
   mouth.anchors.push_back({"upper_teeth_slot", {0, 0, p.palate_height_m - defaults.palate_height_m}});
   mouth.anchors.push_back({"lower_teeth_slot", {0, 0, defaults.floor_depth_m - p.floor_depth_m}});
   mouth.anchors.push_back({"sofa_tongue_slot", {0, 0, defaults.floor_depth_m - p.floor_depth_m}});
   mouth.anchors.push_back({"pharynx_center", {b.x_back, 0, b.center_z(b.x_back)}});
-  if (p.tongue) {
-    TriangleMesh t = make_procedural_tongue(p);
-    glm::vec3 tip = t.positions[0], top = t.positions[0];
-    for (auto& v : t.positions) {
-      if (v.x > tip.x) tip = v;
-      if (v.z > top.z) top = v;
-    }
-    mouth.anchors.push_back({"tongue_tip", glm::dvec3(tip)});
-    mouth.anchors.push_back({"tongue_dorsum", glm::dvec3(top)});
-    mouth.parts.push_back(std::move(t));
+  if (!p.tongue) return;
+  TriangleMesh t = make_procedural_tongue(p);
+  glm::vec3 tip = t.positions[0], top = t.positions[0];
+  for (auto& v : t.positions) {
+    if (v.x > tip.x) tip = v;
+    if (v.z > top.z) top = v;
   }
+  mouth.anchors.push_back({"tongue_tip", glm::dvec3(tip)});
+  mouth.anchors.push_back({"tongue_dorsum", glm::dvec3(top)});
+  mouth.parts.push_back(std::move(t));
+}
+
+}  // namespace
+
+Mouth make_mouth(const MouthParams& p) {
+  validate_mouth_params(p, "mouth parameters");
+  Builder b(p);
+  const int n = p.segments;
+  const Sections s = section_rows(b, p);
+  bool flip = false;
+  const TriangleMesh whole = whole_solid(s, n, flip);
+  const int q = n / 8;
+  const Region regions[] = {
+      {"skin", "skin", s.skin_row0, s.lip_row0, 0, n},
+      {"upper_lip", "lips", s.lip_row0, s.cavity_row0, q, 4 * q},
+      {"lower_lip", "lips", s.lip_row0, s.cavity_row0, 5 * q, 4 * q},
+      {"cheek_left", "cheek", s.cavity_row0, s.last_row, 0, 2 * q},
+      {"palate", "palate", s.cavity_row0, s.last_row, 2 * q, 2 * q},
+      {"cheek_right", "cheek", s.cavity_row0, s.last_row, 4 * q, 2 * q},
+      {"floor", "floor", s.cavity_row0, s.last_row, 6 * q, 2 * q},
+  };
+  Mouth mouth;
+  for (const auto& reg : regions) mouth.parts.push_back(region_mesh(whole, reg, n, flip));
+  add_anchors_and_tongue(mouth, b, p);
   return mouth;
 }
 
