@@ -23,6 +23,7 @@
 #include "renderer/core/json_node.h"
 #include "renderer/mesh/gltf_writer.h"
 #include "renderer/render/render_job.h"
+#include "renderer/render/spatial/spatial_vertex.h"
 #include "renderer/render/spatial/stack_profiles.h"
 #include "renderer/render/stack_response_cache.h"
 #include "sanitizer_scale.h"
@@ -189,6 +190,33 @@ TEST(LayeredSpatial, BloodSpotDimsTheFluorescenceThatCrossesIt) {
     // And the spot is still darker than the healthy tissue it is in, as the Monte Carlo says.
     EXPECT_LT(double(sp["contrast"][b][0]), 0.9) << "band " << b;
   }
+}
+
+// The vertical passage a path crossing regions makes at each end (docs/layered-tissue.md, "Regions
+// and lateral transport") is the depth over which the two stacks differ. `blood_spot` is
+// `lateral_tongue` with blood in its 0.2 mm superficial stroma (the presets' files); a stack against
+// itself differs nowhere; one whose epithelium alone is changed differs over its thickness; one whose semi-infinite layer starts 0.45 mm down differs from there to
+// the 1 mm the passage is counted to.
+TEST(LayeredSpatial, PassageIsTheDepthOverWhichTwoStacksDiffer) {
+  auto preset = [](const char* name) {
+    const Scene sc = load_scene(JsonFile::from(flat_scene({{"type", "layered_tissue"}, {"preset", name}}, 1, 4), "p.json"));
+    return sc.materials[0].stack;
+  };
+  const LayerStack healthy = preset("lateral_tongue"), blood = preset("blood_spot");
+  EXPECT_NEAR(differing_depth_mm(healthy, blood), 0.20, 1e-9);
+  EXPECT_NEAR(differing_depth_mm(blood, healthy), 0.20, 1e-9);
+  EXPECT_EQ(differing_depth_mm(healthy, healthy), 0.0);
+  // The epithelium (under the thin wet coating) alone changed.
+  LayerStack epi = healthy;
+  ASSERT_GE(epi.layers.size(), 4u);
+  ASSERT_EQ(epi.layers[1].name, "epithelium");
+  epi.layers[1].g = 0.8;
+  EXPECT_NEAR(differing_depth_mm(healthy, epi), healthy.layers[1].thickness_mm, 1e-9);
+  LayerStack deep = healthy;
+  deep.layers.back().g = 0.8;
+  double above = 0;
+  for (size_t i = 0; i + 1 < healthy.layers.size(); ++i) above += healthy.layers[i].thickness_mm;
+  EXPECT_NEAR(differing_depth_mm(healthy, deep), kPassageMm - above, 1e-9);
 }
 
 TEST(LayeredSpatial, UniformLightRendersAsThePositionFreeTable) {

@@ -113,10 +113,50 @@ constexpr int kChordPoints = 16;
 // material it costs a tenth of the samples.
 constexpr double kDefensive = 0.1;
 
+namespace {
+
+bool same_layer(const TissueLayer& a, const TissueLayer& b) {
+  if (a.ior != b.ior || a.g != b.g || a.mua != b.mua || a.mus != b.mus || a.fluorophores.size() != b.fluorophores.size())
+    return false;
+  for (size_t i = 0; i < a.fluorophores.size(); ++i)
+    if (a.fluorophores[i].eem != b.fluorophores[i].eem || a.fluorophores[i].mua_peak_per_mm != b.fluorophores[i].mua_peak_per_mm)
+      return false;
+  return true;
+}
+
+// The layer at depth z (mm) below the top, or nullptr below the last finite one.
+const TissueLayer* layer_at(const LayerStack& s, double z) {
+  double top = 0;
+  for (const TissueLayer& l : s.layers) {
+    if (l.semi_infinite() || z < top + l.thickness_mm) return &l;
+    top += l.thickness_mm;
+  }
+  return nullptr;
+}
+
+}  // namespace
+
+double differing_depth_mm(const LayerStack& a, const LayerStack& b) {
+  constexpr int kSteps = 100;
+  double d = 0;
+  for (int i = 0; i < kSteps; ++i) {
+    const double z = (i + 0.5) * kPassageMm / kSteps;
+    const TissueLayer *la = layer_at(a, z), *lb = layer_at(b, z);
+    if (!(la && lb ? same_layer(*la, *lb) : la == lb)) d += kPassageMm / kSteps;
+  }
+  return d;
+}
+
 SpatialTransport::SpatialTransport(const Scene& scene, const EmbreeScene& embree, const RenderTables& tables)
     : scene_(scene), embree_(embree), t_(tables) {
   for (const MaterialTables& m : tables.materials)
     if (m.stack.enabled && m.stack.spatial) wide_mm_ = std::max(wide_mm_, m.stack.spatial->search_mm);
+  const size_t n = scene.materials.size();
+  passage_mm_.assign(n * n, 0.0);
+  for (size_t a = 0; a < n; ++a)
+    for (size_t b = 0; b < n; ++b)
+      if (a != b && spatial_material(int(a)) && spatial_material(int(b)))
+        passage_mm_[a * n + b] = differing_depth_mm(scene.materials[a].stack, scene.materials[b].stack);
 }
 
 bool SpatialTransport::spatial_material(int m) const {
@@ -365,7 +405,7 @@ void SpatialTransport::elastic_values(const Vertex& v, const Entry& e, double mu
     for (int k = 0; k < kLanes; ++k)
       out[k] = v.p.beta[k] == 0 ? 0.0 : R.elastic_at(a, b, v.p.wl[k]) * S.elastic_density(v.co, v.p.wl[k], e.r_mm);
   };
-  const Chord& c = e.chord;
+  const Chord c = crossing_shares(e.chord, v.xo.material, e.xi.material, e.r_mm);
   if (c.n == 1) return one(t_.materials[c.material[0]], f);
   double g[kLanes];
   for (int k = 0; k < kLanes; ++k) f[k] = 1.0;
@@ -374,6 +414,38 @@ void SpatialTransport::elastic_values(const Vertex& v, const Entry& e, double mu
     one(t_.materials[c.material[j]], g);
     for (int k = 0; k < kLanes; ++k) f[k] *= std::pow(g[k], c.share[j]);
   }
+}
+
+// The shares of a path from x_i (material mi) to x_o (material mo) along a chord of length r_mm
+// (docs/layered-tissue.md, "Regions and lateral transport"): the path goes down through the layers
+// that tell the materials apart under x_i, along the chord, and up through them under x_o, so each
+// end's material counts the depth L over which the chord's materials differ (at most kPassageMm)
+// once, on top of its share of the chord: share_m = (L [m = mi] + L [m = mo] + r share_m) / (2 L + r).
+// Symmetric in the two ends (reciprocal); with nothing to cross, the chord itself.
+SpatialTransport::Chord SpatialTransport::crossing_shares(const Chord& chord, int mo, int mi, double r_mm) const {
+  const size_t n = scene_.materials.size();
+  auto pair = [&](int a, int b) { return a >= 0 && b >= 0 ? passage_mm_[size_t(a) * n + size_t(b)] : 0.0; };
+  double L = 0;
+  for (int j = 0; j < chord.n; ++j) L = std::max({L, pair(mo, chord.material[j]), pair(mi, chord.material[j])});
+  L = std::max(L, pair(mo, mi));
+  if (!(L > 0)) return chord;
+  Chord c = chord;
+  auto slot = [&](int m) {
+    for (int j = 0; j < c.n; ++j)
+      if (c.material[j] == m) return j;
+    if (c.n == Chord::kMax) return -1;
+    c.material[c.n] = m;
+    c.share[c.n] = 0.0;
+    return c.n++;
+  };
+  const double r = std::max(r_mm, 0.0), total = 2.0 * L + r;
+  for (int j = 0; j < c.n; ++j) c.share[j] *= r / total;
+  for (int end : {mo, mi})
+    if (int j = spatial_material(end) ? slot(end) : -1; j >= 0) c.share[j] += L / total;
+  double sum = 0;
+  for (int j = 0; j < c.n; ++j) sum += c.share[j];
+  for (int j = 0; j < c.n; ++j) c.share[j] /= sum;
+  return c;
 }
 
 // Per lane, the factor by which the materials the fluorescence's two legs cross change what the

@@ -25,7 +25,8 @@
 //    the chosen strategy's lanes (fluorescent lanes move to an excitation wavelength drawn from the
 //    table).
 // Across `regions`: reflected light takes the product of the crossed materials' BSSRDFs, each raised
-// to its share of the segment from x_i to x_o; fluorescence the material at the emission point
+// to its share of the path from x_i to x_o (the segment between them plus a vertical passage at each
+// end through the layers that tell the materials apart); fluorescence the material at the emission point
 // (docs/layered-tissue.md, "Regions and lateral transport").
 #pragma once
 #include "renderer/render/embree_scene.h"
@@ -44,6 +45,13 @@ struct SpatialScatter {
   double pdf = 0;          // MIS density for an LED hit along wi_world; 0 = count it fully
   bool reflected = false;  // the continuation is the top interface's reflection at x_o
 };
+
+// The vertical passages of a path that crosses regions are counted down to this depth at most (mm).
+constexpr double kPassageMm = 1.0;
+// The depth (mm) within the top kPassageMm over which two stacks differ (their layers at that depth
+// differ in thickness, index, anisotropy, absorption, scattering or fluorophores), read at 0.01 mm
+// steps: the length of the vertical passage through the layers that tell two regions apart.
+double differing_depth_mm(const LayerStack& a, const LayerStack& b);
 
 class SpatialTransport {
  public:
@@ -71,6 +79,7 @@ class SpatialTransport {
   Entry sample_elastic(Vertex& v, Rng& rng, RayCounts& counts) const;
   Entry sample_fluorescent(Vertex& v, Rng& rng, RayCounts& counts) const;
   void chord_materials(const Vertex& v, const SurfacePoint& a, const SurfacePoint& b, Chord& c) const;
+  Chord crossing_shares(const Chord& chord, int mo, int mi, double r_mm) const;
   void elastic_values(const Vertex& v, const Entry& e, double mu_i, double* f) const;
   void fluorescent_values(const Vertex& v, const MaterialTables& m, const Entry& e, const LightSample& ls, double rho_i,
                           double* f) const;
@@ -87,6 +96,10 @@ class SpatialTransport {
   // emission points is drawn uniformly over this disc (spatial_vertex.cpp, kDefensive), so that a
   // neighbouring material whose profile reaches where x_o's does not is still sampled.
   double wide_mm_ = 0;
+  // Per pair of materials (row-major over the scene's materials), the depth in mm, within the top
+  // kPassageMm, over which their stacks differ: the vertical passage each end of a crossing path
+  // makes through the layers that tell the two apart (elastic_values).
+  std::vector<double> passage_mm_;
 };
 
 }  // namespace ofl
