@@ -236,6 +236,95 @@ const std::vector<std::string>& default_report_metrics() {
   return m;
 }
 
+namespace {
+
+void parse_render_settings(const JsonNode& r, RenderSettings& out) {
+  r.check_keys({"width", "height", "spp", "max_depth", "seed", "noise_target", "output_bands", "replicates", "cache"});
+  out.replicates = r.integer_or("replicates", 1, 1, 2);
+  out.cache = r.boolean_or("cache", true);
+  if (auto v = r.find("width")) out.width = v->integer(2, 16384);
+  if (auto v = r.find("height")) out.height = v->integer(2, 16384);
+  if (auto v = r.find("spp")) out.spp = v->integer(1, 1 << 24);
+  if (auto v = r.find("max_depth")) out.max_depth = v->integer(0, 1000);
+  if (auto v = r.find("seed")) out.seed = static_cast<uint64_t>(v->integer(0));
+  if (auto v = r.find("noise_target")) out.noise_target = v->number(0.0, 10.0);
+  if (auto v = r.find("output_bands")) {
+    v->check_keys({"min_nm", "max_nm", "step_nm"});
+    double lo = v->at("min_nm").positive(), hi = v->at("max_nm").positive(), st = v->at("step_nm").positive();
+    if (!(hi > lo)) v->at("max_nm").fail("must be greater than min_nm");
+    out.output_bands = nlohmann::json{{"min_nm", lo}, {"max_nm", hi}, {"step_nm", st}};
+  }
+}
+
+void parse_design(const JsonNode& d, DesignSpec& out) {
+  d.check_keys({"type", "points", "seed"});
+  std::string t = d.choice_or("type", "grid", {"grid", "latin_hypercube"});
+  if (t == "latin_hypercube") {
+    out.type = DesignSpec::Type::kLatinHypercube;
+    out.points = static_cast<int>(d.at("points").integer(1, kMaxSweepPoints));
+    out.seed = static_cast<uint64_t>(d.integer_or("seed", 1, 0));
+  } else if (d.has("points") || d.has("seed")) {
+    d.fail("points and seed belong to a latin_hypercube design; a grid takes every combination");
+  }
+}
+
+// The parameters, with unique names, and a grid that fits in a sweep.
+void parse_parameters(const JsonNode& ps, SweepSpec& s) {
+  std::set<std::string> names;
+  for (size_t i = 0; i < ps.size(); ++i) {
+    SweepParameter p = parse_parameter(ps.at(i));
+    if (!names.insert(p.name).second) ps.at(i).at("name").fail("duplicate parameter name \"" + p.name + "\"");
+    s.parameters.push_back(std::move(p));
+  }
+  if (s.parameters.empty()) ps.fail("needs at least one parameter");
+  if (s.design.type == DesignSpec::Type::kGrid) {
+    double total = 1;
+    for (auto& p : s.parameters) total *= p.levels();
+    if (total > kMaxSweepPoints)
+      ps.fail("the full grid has " + std::to_string(static_cast<long long>(total)) + " points, more than the " +
+              std::to_string(kMaxSweepPoints) + " a sweep can run; use fewer levels or a latin_hypercube design");
+  }
+}
+
+void parse_rois(const JsonNode* rs, SweepSpec& s) {
+  if (!rs) {
+    s.rois.push_back(RoiSpec{"tongue", "tongue", {}});
+    return;
+  }
+  for (size_t i = 0; i < rs->size(); ++i) {
+    RoiSpec r = parse_roi_spec(rs->at(i));
+    if (s.roi(r.name)) rs->at(i).at("name").fail("duplicate ROI name \"" + r.name + "\"");
+    s.rois.push_back(std::move(r));
+  }
+}
+
+void parse_lesion_contrast(const JsonNode& lc, SweepSpec& s) {
+  lc.check_keys({"lesion", "healthy"});
+  s.metrics.lesion_roi = lc.at("lesion").string();
+  s.metrics.healthy_roi = lc.at("healthy").string();
+  if (!s.roi(s.metrics.lesion_roi)) lc.at("lesion").fail("no ROI named \"" + s.metrics.lesion_roi + "\"");
+  if (!s.roi(s.metrics.healthy_roi)) lc.at("healthy").fail("no ROI named \"" + s.metrics.healthy_roi + "\"");
+  if (s.metrics.lesion_roi == s.metrics.healthy_roi) lc.at("healthy").fail("must differ from lesion");
+}
+
+void parse_report(const JsonNode& r, SweepSpec& s) {
+  r.check_keys({"metrics", "thumbnail_width", "scatter", "scatter_rois"});
+  s.report.scatter_noise_free = r.choice_or("scatter", "raw", {"raw", "noise_free"}) == "noise_free";
+  if (auto sr = r.find("scatter_rois"))
+    for (size_t i = 0; i < sr->size(); ++i) {
+      std::string n = sr->at(i).string();
+      if (!s.roi(n)) sr->at(i).fail("no ROI named \"" + n + "\"");
+      s.report.scatter_rois.push_back(n);
+    }
+  if (auto ms = r.find("metrics")) {
+    s.report.metrics.clear();
+    for (size_t i = 0; i < ms->size(); ++i) s.report.metrics.push_back(ms->at(i).string());
+  }
+  s.report.thumbnail_width = r.integer_or("thumbnail_width", s.report.thumbnail_width, 16, 1024);
+}
+
+}  // namespace
+
 SweepSpec parse_sweep_spec(const JsonFile& f) {
   JsonNode root = f.root();
   root.check_keys({"format", "version", "name", "description", "scene", "camera", "render", "camera_run", "design",
@@ -252,94 +341,24 @@ SweepSpec parse_sweep_spec(const JsonFile& f) {
   s.description = root.string_or("description", "");
   s.scene = root.at("scene").existing_file();
   s.camera = root.at("camera").existing_file();
-
-  if (auto r = root.find("render")) {
-    r->check_keys({"width", "height", "spp", "max_depth", "seed", "noise_target", "output_bands", "replicates", "cache"});
-    s.render.replicates = r->integer_or("replicates", 1, 1, 2);
-    s.render.cache = r->boolean_or("cache", true);
-    if (auto v = r->find("width")) s.render.width = v->integer(2, 16384);
-    if (auto v = r->find("height")) s.render.height = v->integer(2, 16384);
-    if (auto v = r->find("spp")) s.render.spp = v->integer(1, 1 << 24);
-    if (auto v = r->find("max_depth")) s.render.max_depth = v->integer(0, 1000);
-    if (auto v = r->find("seed")) s.render.seed = static_cast<uint64_t>(v->integer(0));
-    if (auto v = r->find("noise_target")) s.render.noise_target = v->number(0.0, 10.0);
-    if (auto v = r->find("output_bands")) {
-      v->check_keys({"min_nm", "max_nm", "step_nm"});
-      double lo = v->at("min_nm").positive(), hi = v->at("max_nm").positive(), st = v->at("step_nm").positive();
-      if (!(hi > lo)) v->at("max_nm").fail("must be greater than min_nm");
-      s.render.output_bands = nlohmann::json{{"min_nm", lo}, {"max_nm", hi}, {"step_nm", st}};
-    }
-  }
+  if (auto r = root.find("render")) parse_render_settings(*r, s.render);
   if (auto c = root.find("camera_run")) {
     c->check_keys({"noise", "seed"});
     if (auto v = c->find("noise")) s.camera_run.noise = v->boolean();
     if (auto v = c->find("seed")) s.camera_run.seed = static_cast<uint64_t>(v->integer(0));
   }
-  if (auto d = root.find("design")) {
-    d->check_keys({"type", "points", "seed"});
-    std::string t = d->choice_or("type", "grid", {"grid", "latin_hypercube"});
-    if (t == "latin_hypercube") {
-      s.design.type = DesignSpec::Type::kLatinHypercube;
-      s.design.points = static_cast<int>(d->at("points").integer(1, kMaxSweepPoints));
-      s.design.seed = static_cast<uint64_t>(d->integer_or("seed", 1, 0));
-    } else if (d->has("points") || d->has("seed")) {
-      d->fail("points and seed belong to a latin_hypercube design; a grid takes every combination");
-    }
-  }
-  JsonNode ps = root.at("parameters");
-  std::set<std::string> names;
-  for (size_t i = 0; i < ps.size(); ++i) {
-    SweepParameter p = parse_parameter(ps.at(i));
-    if (!names.insert(p.name).second) ps.at(i).at("name").fail("duplicate parameter name \"" + p.name + "\"");
-    s.parameters.push_back(std::move(p));
-  }
-  if (s.parameters.empty()) ps.fail("needs at least one parameter");
-  if (s.design.type == DesignSpec::Type::kGrid) {
-    double total = 1;
-    for (auto& p : s.parameters) total *= p.levels();
-    if (total > kMaxSweepPoints)
-      ps.fail("the full grid has " + std::to_string(static_cast<long long>(total)) + " points, more than the " +
-              std::to_string(kMaxSweepPoints) + " a sweep can run; use fewer levels or a latin_hypercube design");
-  }
-
-  if (auto rs = root.find("rois")) {
-    for (size_t i = 0; i < rs->size(); ++i) {
-      RoiSpec r = parse_roi_spec(rs->at(i));
-      if (s.roi(r.name)) rs->at(i).at("name").fail("duplicate ROI name \"" + r.name + "\"");
-      s.rois.push_back(std::move(r));
-    }
-  } else {
-    s.rois.push_back(RoiSpec{"tongue", "tongue", {}});
-  }
-  if (auto lc = root.find("lesion_contrast")) {
-    lc->check_keys({"lesion", "healthy"});
-    s.metrics.lesion_roi = lc->at("lesion").string();
-    s.metrics.healthy_roi = lc->at("healthy").string();
-    if (!s.roi(s.metrics.lesion_roi)) lc->at("lesion").fail("no ROI named \"" + s.metrics.lesion_roi + "\"");
-    if (!s.roi(s.metrics.healthy_roi)) lc->at("healthy").fail("no ROI named \"" + s.metrics.healthy_roi + "\"");
-    if (s.metrics.lesion_roi == s.metrics.healthy_roi) lc->at("healthy").fail("must differ from lesion");
-  }
+  if (auto d = root.find("design")) parse_design(*d, s.design);
+  parse_parameters(root.at("parameters"), s);
+  const auto rs = root.find("rois");
+  parse_rois(rs ? &*rs : nullptr, s);
+  if (auto lc = root.find("lesion_contrast")) parse_lesion_contrast(*lc, s);
   if (auto m = root.find("metrics")) {
     m->check_keys({"led_band_threshold", "scatter_cells"});
     s.metrics.led_band_threshold = m->number_or("led_band_threshold", s.metrics.led_band_threshold, 1e-9, 1.0);
     s.metrics.scatter_cells = m->integer_or("scatter_cells", s.metrics.scatter_cells, 0, 100000);
   }
   s.report.metrics = default_report_metrics();
-  if (auto r = root.find("report")) {
-    r->check_keys({"metrics", "thumbnail_width", "scatter", "scatter_rois"});
-    s.report.scatter_noise_free = r->choice_or("scatter", "raw", {"raw", "noise_free"}) == "noise_free";
-    if (auto sr = r->find("scatter_rois"))
-      for (size_t i = 0; i < sr->size(); ++i) {
-        std::string n = sr->at(i).string();
-        if (!s.roi(n)) sr->at(i).fail("no ROI named \"" + n + "\"");
-        s.report.scatter_rois.push_back(n);
-      }
-    if (auto ms = r->find("metrics")) {
-      s.report.metrics.clear();
-      for (size_t i = 0; i < ms->size(); ++i) s.report.metrics.push_back(ms->at(i).string());
-    }
-    s.report.thumbnail_width = r->integer_or("thumbnail_width", s.report.thumbnail_width, 16, 1024);
-  }
+  if (auto r = root.find("report")) parse_report(*r, s);
   return s;
 }
 
