@@ -203,21 +203,26 @@ struct Accumulator {
   std::vector<double> a, a2, ab, ab2;
   std::vector<std::pair<double, double>> exits;  // (radius mm, weight) of diffuse exits
   explicit Accumulator(size_t layers = 0) : a(layers, 0.0), a2(layers, 0.0), ab(layers, 0.0), ab2(layers, 0.0) {}
+  void add(const Accumulator& o) {
+    rsp += o.rsp;
+    rd += o.rd;
+    rd2 += o.rd2;
+    tt += o.tt;
+    tt2 += o.tt2;
+    for (size_t l = 0; l < a.size(); ++l) {
+      a[l] += o.a[l];
+      a2[l] += o.a2[l];
+      ab[l] += o.ab[l];
+      ab2[l] += o.ab2[l];
+    }
+    exits.insert(exits.end(), o.exits.begin(), o.exits.end());
+  }
 };
 
-}  // namespace
-
-SlabResult simulate_slab(const McmlInput& in, long long photons, uint64_t seed) {
-  auto t0 = std::chrono::steady_clock::now();
-  LayerStack stack = mcml_stack(in);
+// MCML's depth bins of dz_mm and the layer each belongs to (the one holding the bin's centre).
+std::vector<int> mcml_bin_layers(const LayerStack& stack, int nz, double dz_mm) {
   const size_t nl = stack.layers.size();
-  StackTables st = build_stack_tables(stack, {}, {}, false);
-  MaterialTables mt;  // no base
-  StackWalker walker(st, mt, 1, WalkMode::kImportance);
-  const double r_spec = fresnel_dielectric(1.0, stack.layers[0].ior / stack.ambient_ior);
-  // MCML's depth bins and the layer each belongs to (the one holding the bin's centre).
-  const double dz_mm = in.dz_cm > 0 ? in.dz_cm * 10.0 : 0.02;
-  std::vector<int> bin_layer(std::max(in.nz, 1));
+  std::vector<int> bin_layer(std::max(nz, 1));
   for (size_t iz = 0; iz < bin_layer.size(); ++iz) {
     double zc = (iz + 0.5) * dz_mm, bottom = 0;
     int l = 0;
@@ -227,67 +232,51 @@ SlabResult simulate_slab(const McmlInput& in, long long photons, uint64_t seed) 
     }
     bin_layer[iz] = l;
   }
+  return bin_layer;
+}
 
-  const long long block = 4096;
-  const long long blocks = (photons + block - 1) / block;
-  std::vector<Accumulator> acc(blocks, Accumulator(nl));
-  tbb::parallel_for((long long)0, blocks, [&](long long b) {
-    Accumulator& A = acc[b];
-    Rng rng(seed, Rng::stream_for(0x4D434D4CULL, uint64_t(b)));
-    long long end = std::min(photons, (b + 1) * block);
-    PhotonTally tally;
-    tally.absorbed.assign(nl, 0.0);
-    tally.absorbed_binned.assign(nl, 0.0);
-    tally.bin_layer = bin_layer;
-    tally.dz_mm = dz_mm;
-    for (long long i = b * block; i < end; ++i) {
-      A.rsp += r_spec;
-      WalkLanes lanes;
-      lanes.count = 1;
-      lanes.wl[0] = 0;
-      lanes.w[0] = float(1.0 - r_spec);
-      WalkState s;
-      s.d = glm::dvec3(0, 0, -1);
-      tally.x = tally.y = 0;
-      std::fill(tally.absorbed.begin(), tally.absorbed.end(), 0.0);
-      std::fill(tally.absorbed_binned.begin(), tally.absorbed_binned.end(), 0.0);
-      WalkResult r = walker.walk(s, lanes, StackPointFactors(), rng, tally);
-      double w = lanes.w[0];
-      if (r.end == WalkEnd::kExitTop) {
-        if (!r.turbid) {
-          A.rsp += w;
-        } else {
-          A.rd += w;
-          A.rd2 += w * w;
-          A.exits.emplace_back(std::hypot(tally.x, tally.y), w);
-        }
-      } else if (r.end == WalkEnd::kExitBottom) {
-        A.tt += w;
-        A.tt2 += w * w;
+// Photons [first, end) of a pencil beam at normal incidence, into A: specular and diffuse
+// reflectance, transmittance, absorption per layer (whole and in MCML's bins), diffuse exit radii.
+void trace_photons(const StackWalker& walker, double r_spec, long long first, long long end, PhotonTally& tally, Rng& rng,
+                   Accumulator& A) {
+  const size_t nl = A.a.size();
+  for (long long i = first; i < end; ++i) {
+    A.rsp += r_spec;
+    WalkLanes lanes;
+    lanes.count = 1;
+    lanes.wl[0] = 0;
+    lanes.w[0] = float(1.0 - r_spec);
+    WalkState s;
+    s.d = glm::dvec3(0, 0, -1);
+    tally.x = tally.y = 0;
+    std::fill(tally.absorbed.begin(), tally.absorbed.end(), 0.0);
+    std::fill(tally.absorbed_binned.begin(), tally.absorbed_binned.end(), 0.0);
+    WalkResult r = walker.walk(s, lanes, StackPointFactors(), rng, tally);
+    double w = lanes.w[0];
+    if (r.end == WalkEnd::kExitTop) {
+      if (!r.turbid) {
+        A.rsp += w;
+      } else {
+        A.rd += w;
+        A.rd2 += w * w;
+        A.exits.emplace_back(std::hypot(tally.x, tally.y), w);
       }
-      for (size_t l = 0; l < nl; ++l) {
-        A.a[l] += tally.absorbed[l];
-        A.a2[l] += tally.absorbed[l] * tally.absorbed[l];
-        A.ab[l] += tally.absorbed_binned[l];
-        A.ab2[l] += tally.absorbed_binned[l] * tally.absorbed_binned[l];
-      }
+    } else if (r.end == WalkEnd::kExitBottom) {
+      A.tt += w;
+      A.tt2 += w * w;
     }
-  });
-  Accumulator T(nl);
-  for (auto& A : acc) {
-    T.rsp += A.rsp;
-    T.rd += A.rd;
-    T.rd2 += A.rd2;
-    T.tt += A.tt;
-    T.tt2 += A.tt2;
     for (size_t l = 0; l < nl; ++l) {
-      T.a[l] += A.a[l];
-      T.a2[l] += A.a2[l];
-      T.ab[l] += A.ab[l];
-      T.ab2[l] += A.ab2[l];
+      A.a[l] += tally.absorbed[l];
+      A.a2[l] += tally.absorbed[l] * tally.absorbed[l];
+      A.ab[l] += tally.absorbed_binned[l];
+      A.ab2[l] += tally.absorbed_binned[l] * tally.absorbed_binned[l];
     }
-    T.exits.insert(T.exits.end(), A.exits.begin(), A.exits.end());
   }
+}
+
+// The totals of T over N photons, with standard errors, and the radius holding 90 % of Rd.
+SlabResult slab_result(Accumulator& T, long long photons) {
+  const size_t nl = T.a.size();
   const double N = double(photons);
   auto se = [N](double s, double s2) { return std::sqrt(std::max(0.0, s2 / N - (s / N) * (s / N)) / N); };
   SlabResult r;
@@ -310,6 +299,37 @@ SlabResult simulate_slab(const McmlInput& in, long long photons, uint64_t seed) 
     cum += w;
     if (cum >= 0.9 * T.rd) { r.r90_mm = rad; break; }
   }
+  return r;
+}
+
+}  // namespace
+
+SlabResult simulate_slab(const McmlInput& in, long long photons, uint64_t seed) {
+  auto t0 = std::chrono::steady_clock::now();
+  LayerStack stack = mcml_stack(in);
+  const size_t nl = stack.layers.size();
+  StackTables st = build_stack_tables(stack, {}, {}, false);
+  MaterialTables mt;  // no base
+  StackWalker walker(st, mt, 1, WalkMode::kImportance);
+  const double r_spec = fresnel_dielectric(1.0, stack.layers[0].ior / stack.ambient_ior);
+  const double dz_mm = in.dz_cm > 0 ? in.dz_cm * 10.0 : 0.02;
+  const std::vector<int> bin_layer = mcml_bin_layers(stack, in.nz, dz_mm);
+
+  const long long block = 4096;
+  const long long blocks = (photons + block - 1) / block;
+  std::vector<Accumulator> acc(blocks, Accumulator(nl));
+  tbb::parallel_for((long long)0, blocks, [&](long long b) {
+    Rng rng(seed, Rng::stream_for(0x4D434D4CULL, uint64_t(b)));
+    PhotonTally tally;
+    tally.absorbed.assign(nl, 0.0);
+    tally.absorbed_binned.assign(nl, 0.0);
+    tally.bin_layer = bin_layer;
+    tally.dz_mm = dz_mm;
+    trace_photons(walker, r_spec, b * block, std::min(photons, (b + 1) * block), tally, rng, acc[b]);
+  });
+  Accumulator T(nl);
+  for (auto& A : acc) T.add(A);
+  SlabResult r = slab_result(T, photons);
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return r;
 }
