@@ -86,17 +86,29 @@ std::pair<std::string, UvOverlay> parse_overlay(const std::string& spec) {
   return {spec.substr(0, eq), std::move(o)};
 }
 
-std::vector<float> render_preview(const std::vector<TriangleMesh>& meshes, PreviewCamera cam, const PreviewOptions& opt) {
-  const int W = opt.width, H = opt.height;
-  const double aspect = static_cast<double>(W) / H;
-  glm::dvec3 f = glm::normalize(cam.target - cam.eye);
-  glm::dvec3 r = glm::normalize(glm::cross(f, cam.up));
-  glm::dvec3 u = glm::cross(r, f);
+namespace {
 
-  // Orthographic fit: centre and size from the projected vertices.
-  glm::dvec2 center(0.0);
-  double half_h = 1;
-  if (!cam.perspective) {
+// Camera space to pixels: perspective, or orthographic fitted to the projected vertices (centre and
+// height) unless the camera gives its height.
+struct PreviewProjection {
+  const PreviewCamera& cam;
+  int W = 0, H = 0;
+  double aspect = 1, tan_half = 1, half_h = 1;
+  glm::dvec3 f{0, 0, 1}, r{1, 0, 0}, u{0, 1, 0};
+  glm::dvec2 center{0.0};
+  static constexpr double kNear = 1e-4;
+
+  PreviewProjection(const std::vector<TriangleMesh>& meshes, const PreviewCamera& c, const PreviewOptions& opt)
+      : cam(c), W(opt.width), H(opt.height) {
+    aspect = static_cast<double>(W) / H;
+    f = glm::normalize(cam.target - cam.eye);
+    r = glm::normalize(glm::cross(f, cam.up));
+    u = glm::cross(r, f);
+    if (!cam.perspective) fit_orthographic(meshes, opt);
+    tan_half = std::tan(0.5 * cam.fov_deg * 3.14159265358979 / 180.0);
+  }
+
+  void fit_orthographic(const std::vector<TriangleMesh>& meshes, const PreviewOptions& opt) {
     glm::dvec2 lo(1e300), hi(-1e300);
     for (auto& m : meshes)
       for (auto& p : m.positions) {
@@ -114,26 +126,16 @@ std::vector<float> render_preview(const std::vector<TriangleMesh>& meshes, Previ
     half_h = cam.ortho_height > 0 ? 0.5 * cam.ortho_height : 0.54 * std::max(hi.y - lo.y, (hi.x - lo.x) / aspect);
     if (!(half_h > 0)) half_h = 1;
   }
-  const double tan_half = std::tan(0.5 * cam.fov_deg * 3.14159265358979 / 180.0);
-  const double near = 1e-4;
-
-  std::vector<float> rgb(static_cast<size_t>(W) * H * 3);
-  for (size_t i = 0; i < rgb.size(); i += 3) {
-    rgb[i] = static_cast<float>(opt.background.x);
-    rgb[i + 1] = static_cast<float>(opt.background.y);
-    rgb[i + 2] = static_cast<float>(opt.background.z);
-  }
-  std::vector<double> depth(static_cast<size_t>(W) * H, std::numeric_limits<double>::infinity());
 
   struct Projected {
     double x, y, z;  // pixel coordinates and camera depth
   };
-  auto project = [&](const glm::dvec3& p, Projected& out) {
+  bool project(const glm::dvec3& p, Projected& out) const {
     glm::dvec3 d = p - cam.eye;
     double cx = glm::dot(d, r), cy = glm::dot(d, u), cz = glm::dot(d, f);
     double nx, ny;
     if (cam.perspective) {
-      if (cz < near) return false;
+      if (cz < kNear) return false;
       nx = cx / (cz * tan_half * aspect);
       ny = cy / (cz * tan_half);
     } else {
@@ -142,8 +144,35 @@ std::vector<float> render_preview(const std::vector<TriangleMesh>& meshes, Previ
     }
     out = {(nx * 0.5 + 0.5) * W, (0.5 - ny * 0.5) * H, cz};
     return true;
-  };
+  }
+};
 
+// The colour of a mesh point seen along `view`: the material's hint colour under its UV overlays,
+// shaded by the normal's cosine to the viewer, tinted blue where the back of the face is seen.
+glm::dvec3 preview_colour(glm::dvec3 base, const std::vector<const UvOverlay*>& overlays, const glm::dvec2& uv,
+                          const glm::dvec3& n, const glm::dvec3& view, bool front) {
+  glm::dvec3 col = base;
+  for (const UvOverlay* o : overlays) {
+    double a = std::clamp(o->sample(uv.x, uv.y), 0.0, 1.0);
+    col = (1 - a) * col + a * o->color;
+  }
+  double shade = 0.12 + 0.88 * std::abs(glm::dot(n, view));
+  if (!front) col = 0.5 * (0.4 * col + glm::dvec3(0.1, 0.2, 0.6));
+  return col * shade;
+}
+
+}  // namespace
+
+std::vector<float> render_preview(const std::vector<TriangleMesh>& meshes, PreviewCamera cam, const PreviewOptions& opt) {
+  const int W = opt.width, H = opt.height;
+  const PreviewProjection proj(meshes, cam, opt);
+  std::vector<float> rgb(static_cast<size_t>(W) * H * 3);
+  for (size_t i = 0; i < rgb.size(); i += 3) {
+    rgb[i] = static_cast<float>(opt.background.x);
+    rgb[i + 1] = static_cast<float>(opt.background.y);
+    rgb[i + 2] = static_cast<float>(opt.background.z);
+  }
+  std::vector<double> depth(static_cast<size_t>(W) * H, std::numeric_limits<double>::infinity());
   for (const auto& m : meshes) {
     glm::dvec3 base = material_hint_color(m.material);
     std::vector<const UvOverlay*> overlays;
@@ -152,8 +181,8 @@ std::vector<float> render_preview(const std::vector<TriangleMesh>& meshes, Previ
     for (size_t t = 0; t + 2 < m.indices.size(); t += 3) {
       uint32_t id[3] = {m.indices[t], m.indices[t + 1], m.indices[t + 2]};
       glm::dvec3 P[3] = {glm::dvec3(m.positions[id[0]]), glm::dvec3(m.positions[id[1]]), glm::dvec3(m.positions[id[2]])};
-      Projected s[3];
-      if (!project(P[0], s[0]) || !project(P[1], s[1]) || !project(P[2], s[2])) continue;
+      PreviewProjection::Projected s[3];
+      if (!proj.project(P[0], s[0]) || !proj.project(P[1], s[1]) || !proj.project(P[2], s[2])) continue;
       glm::dvec3 ng = glm::cross(P[1] - P[0], P[2] - P[0]);
       auto shade_pixel = [&](int px, int py, double l0, double l1, double l2) {
         double w0 = l0, w1 = l1, w2 = l2;
@@ -171,24 +200,15 @@ std::vector<float> render_preview(const std::vector<TriangleMesh>& meshes, Previ
           if (opt.clip.keep_below ? c > opt.clip.value : c < opt.clip.value) return;
         }
         depth[pix] = z;
-        glm::dvec3 view = cam.perspective ? glm::normalize(cam.eye - wp) : -f;
-        bool front = glm::dot(ng, view) > 0;
+        glm::dvec3 view = cam.perspective ? glm::normalize(cam.eye - wp) : -proj.f;
         glm::dvec3 n = ng;
         if (!m.normals.empty())
           n = w0 * glm::dvec3(m.normals[id[0]]) + w1 * glm::dvec3(m.normals[id[1]]) + w2 * glm::dvec3(m.normals[id[2]]);
         double nl = glm::length(n);
         n = nl > 0 ? n / nl : glm::normalize(ng);
-        glm::dvec3 col = base;
-        if (!overlays.empty()) {
-          glm::dvec2 uv = w0 * glm::dvec2(m.uvs[id[0]]) + w1 * glm::dvec2(m.uvs[id[1]]) + w2 * glm::dvec2(m.uvs[id[2]]);
-          for (const UvOverlay* o : overlays) {
-            double a = std::clamp(o->sample(uv.x, uv.y), 0.0, 1.0);
-            col = (1 - a) * col + a * o->color;
-          }
-        }
-        double shade = 0.12 + 0.88 * std::abs(glm::dot(n, view));
-        if (!front) col = 0.5 * (0.4 * col + glm::dvec3(0.1, 0.2, 0.6));
-        col *= shade;
+        glm::dvec2 uv(0.0);
+        if (!overlays.empty()) uv = w0 * glm::dvec2(m.uvs[id[0]]) + w1 * glm::dvec2(m.uvs[id[1]]) + w2 * glm::dvec2(m.uvs[id[2]]);
+        const glm::dvec3 col = preview_colour(base, overlays, uv, n, view, glm::dot(ng, view) > 0);
         rgb[pix * 3] = static_cast<float>(col.x);
         rgb[pix * 3 + 1] = static_cast<float>(col.y);
         rgb[pix * 3 + 2] = static_cast<float>(col.z);
