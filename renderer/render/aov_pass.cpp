@@ -35,17 +35,15 @@ double led_irradiance(const Scene& scene, const EmbreeScene& embree, const Surfa
                       const std::vector<std::vector<glm::dvec3>>& points) {
   // Every shadow ray of the point is traced in one stream (they share an origin and head for a few
   // small discs, so Embree traces them as packets); the sums are taken in the same order as the
-  // rays were made, so the value does not depend on how they were traced.
-  struct Ray {
-    glm::dvec3 o, w;
-    float tmax;
-    double value;
-    size_t light;
-  };
-  thread_local std::vector<Ray> rays;
+  // rays were made, so the value does not depend on how they were traced. Per-thread buffers: no
+  // allocation per pixel.
   thread_local std::vector<glm::dvec3> o, w;
   thread_local std::vector<float> tmax;
-  rays.clear();
+  thread_local std::vector<double> value;
+  thread_local std::vector<size_t> light;
+  thread_local std::unique_ptr<bool[]> blocked;
+  thread_local size_t blocked_size = 0;
+  o.clear(), w.clear(), tmax.clear(), value.clear(), light.clear();
   for (size_t li = 0; li < scene.lights.size(); ++li) {
     const LedLight& l = scene.lights[li];
     for (const glm::dvec3& p : points[li]) {
@@ -55,27 +53,21 @@ double led_irradiance(const Scene& scene, const EmbreeScene& embree, const Surfa
       double cos_s = glm::dot(dir, sp.ns), cos_l = -glm::dot(dir, l.axis);
       if (cos_s <= 0 || cos_l <= 0 || glm::dot(dir, sp.ng) <= 0) continue;
       glm::dvec3 org = EmbreeScene::offset(sp, dir);
-      rays.push_back({org, dir, float(glm::length(p - org) * (1 - 1e-4)),
-                      l.intensity_W_sr * l.profile.eval(cos_l) * cos_s / d2, li});
+      o.push_back(org);
+      w.push_back(dir);
+      tmax.push_back(float(glm::length(p - org) * (1 - 1e-4)));
+      value.push_back(l.intensity_W_sr * l.profile.eval(cos_l) * cos_s / d2);
+      light.push_back(li);
     }
   }
-  const int nr = int(rays.size());
-  o.resize(rays.size());
-  w.resize(rays.size());
-  tmax.resize(rays.size());
-  for (int i = 0; i < nr; ++i) {
-    o[size_t(i)] = rays[size_t(i)].o;
-    w[size_t(i)] = rays[size_t(i)].w;
-    tmax[size_t(i)] = rays[size_t(i)].tmax;
-  }
-  std::unique_ptr<bool[]> blocked(new bool[rays.size() + 1]);
-  embree.occluded_many(o.data(), w.data(), tmax.data(), nr, blocked.get());
+  if (blocked_size < o.size() + 1) blocked.reset(new bool[blocked_size = o.size() + 1]);
+  embree.occluded_many(o.data(), w.data(), tmax.data(), int(o.size()), blocked.get());
   double e = 0;
   size_t i = 0;
   for (size_t li = 0; li < scene.lights.size(); ++li) {
     double sum = 0;
-    for (; i < rays.size() && rays[i].light == li; ++i)
-      if (!blocked[i]) sum += rays[i].value;
+    for (; i < o.size() && light[i] == li; ++i)
+      if (!blocked[i]) sum += value[i];
     e += sum / double(points[li].size());
   }
   return e;

@@ -117,7 +117,8 @@ void EmbreeScene::occluded_many(const glm::dvec3* o, const glm::dvec3* d, const 
   RTCIntersectContext ctx;
   rtcInitIntersectContext(&ctx);
   ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
-  std::vector<RTCRay> rays(static_cast<size_t>(n));
+  thread_local std::vector<RTCRay> rays;  // per thread: no allocation per call
+  rays.resize(static_cast<size_t>(n));
   for (int i = 0; i < n; ++i) {
     RTCRay& r = rays[size_t(i)];
     r.org_x = float(o[i].x); r.org_y = float(o[i].y); r.org_z = float(o[i].z);
