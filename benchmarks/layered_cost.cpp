@@ -11,7 +11,7 @@
 // RenderStats::build_seconds less the surface scene's) is reported separately and also added once
 // to the table's time to the surface image's noise, twice: the first load fills the tables (cold:
 // the benchmark points OFL_CACHE_DIR at an empty folder of its own), later loads of the same scene
-// read them from the on-disk cache (warm: renderer/render/stack_response_cache.h). Best of --reps
+// read them from the on-disk cache (warm: renderer/render/stack/stack_response_cache.h). Best of --reps
 // runs (at least 2, so that one is warm); --walk-spp sets the walk's samples (0 = skip the walk,
 // which takes minutes).
 //   usage: layered_cost [--spp N] [--walk-spp N] [--width W] [--reps N] [--threads N] [--json]

@@ -11,7 +11,7 @@
 
 #include "renderer/bench/mcml.h"
 #include "renderer/core/json_node.h"
-#include "renderer/render/render_tables.h"
+#include "renderer/render/integrator/render_tables.h"
 
 using namespace ofl;
 

@@ -18,9 +18,9 @@
 #include <nlohmann/json.hpp>
 
 #include "renderer/core/json_node.h"
-#include "renderer/render/layered_bsdf.h"
+#include "renderer/render/integrator/layered_bsdf.h"
 #include "renderer/render/render_job.h"
-#include "renderer/render/stack_response.h"
+#include "renderer/render/stack/stack_response.h"
 #include "tests/layered_table_bench.h"
 
 using namespace ofl;

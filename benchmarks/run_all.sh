@@ -42,7 +42,7 @@ PY
   echo
   echo "Command: \`$build/speed --threads 2\`. The renderer and Embree alone are timed in the same run:"
   echo "the rays of a render are recorded and traced again with \`rtcIntersect1\`/\`rtcOccluded1\` only."
-  echo "Stages: the renderer's own clock marks (\`RayCounts\` in \`renderer/render/path_tracer.h\`) in a"
+  echo "Stages: the renderer's own clock marks (\`RayCounts\` in \`renderer/render/integrator/path_tracer.h\`) in a"
   echo "render of a quarter of the samples; 'covered' is the share of the threads' wall time the marks see."
   echo "The side-by-side comparison with pbrt-v4 is \`benchmarks/vs_pbrt.sh\` (section \"oralfluor and pbrt-v4\")."
   echo "Load average (1 min) before: $(cut -d' ' -f1 /proc/loadavg) on $(nproc) cores."

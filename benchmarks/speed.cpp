@@ -2,7 +2,7 @@
 // one run: the renderer's camera samples/s and rays/s, and Embree's own rtcIntersect1/rtcOccluded1
 // throughput on the same rays (recorded from the renderer), which gives the share of render time
 // spent inside Embree; and where the time goes, stage by stage, from the renderer's own clock
-// marks (RayCounts in renderer/render/path_tracer.h) in a shorter render of the same scene.
+// marks (RayCounts in renderer/render/integrator/path_tracer.h) in a shorter render of the same scene.
 //   usage: speed [--threads N] [--spp N] [--json] [scene.json ...]
 // Default scenes: the matched tongue-in-mouth scene and the flat patch of benchmarks/scenes/peers/,
 // and scenes/dark_spot_405.json (layered tissue).

@@ -45,7 +45,7 @@ struct TissueLayer {
 
 // How light is carried inside the stack at render time (docs/layered-tissue.md, "Cost").
 enum class StackTransport {
-  kTable,  // a response table filled once by the walk at scene load (renderer/render/stack_response.h)
+  kTable,  // a response table filled once by the walk at scene load (renderer/render/stack/stack_response.h)
   kWalk,    // the random walk at every shading point (the reference)
   kSpatial  // the table for the directional part and lateral profiles for where light comes back out
             // (renderer/render/spatial/, docs/layered-tissue.md "Lateral transport")

@@ -10,7 +10,7 @@
 //   "layers": [<layer>, ...]         top to bottom
 //   "transport": "table" | "spatial" | "walk"
 //                                    table (default): the stack's response tabulated once at scene load
-//                                    (renderer/render/stack_response.h), light leaves where it entered;
+//                                    (renderer/render/stack/stack_response.h), light leaves where it entered;
 //                                    spatial: the same table for the directional part and lateral
 //                                    profiles for where light comes back out (renderer/render/spatial/);
 //                                    walk: the position-free random walk at every shading point (the

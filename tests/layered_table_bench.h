@@ -8,7 +8,7 @@
 
 #include <glm/vec3.hpp>
 
-#include "renderer/render/render_tables.h"
+#include "renderer/render/integrator/render_tables.h"
 #include "renderer/scene/scene.h"
 
 namespace ofl::test {

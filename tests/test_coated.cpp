@@ -7,8 +7,8 @@
 #include "materials/coated.h"
 #include "renderer/core/json_node.h"
 #include "renderer/render/render_job.h"
-#include "renderer/render/rng.h"
-#include "renderer/render/sampling.h"
+#include "renderer/render/trace/rng.h"
+#include "renderer/render/trace/sampling.h"
 #include "renderer/spectral/units.h"
 
 using namespace ofl;

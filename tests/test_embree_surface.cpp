@@ -7,8 +7,8 @@
 
 #include <glm/geometric.hpp>
 
-#include "renderer/render/embree_scene.h"
-#include "renderer/render/rng.h"
+#include "renderer/render/trace/embree_scene.h"
+#include "renderer/render/trace/rng.h"
 
 using namespace ofl;
 

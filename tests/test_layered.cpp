@@ -19,7 +19,7 @@
 #include "renderer/core/error.h"
 #include "renderer/core/json_node.h"
 #include "renderer/render/render_job.h"
-#include "renderer/render/stack_walk.h"
+#include "renderer/render/stack/stack_walk.h"
 #include "stat_utils.h"
 
 using namespace ofl;

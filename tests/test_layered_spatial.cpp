@@ -22,10 +22,10 @@
 #include "renderer/core/error.h"
 #include "renderer/core/json_node.h"
 #include "renderer/mesh/gltf_writer.h"
+#include "renderer/render/integrator/spatial_vertex.h"
 #include "renderer/render/render_job.h"
-#include "renderer/render/spatial/spatial_vertex.h"
 #include "renderer/render/spatial/stack_profiles.h"
-#include "renderer/render/stack_response_cache.h"
+#include "renderer/render/stack/stack_response_cache.h"
 #include "sanitizer_scale.h"
 
 using namespace ofl;

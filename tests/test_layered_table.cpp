@@ -1,4 +1,4 @@
-// The tabulated stack response (transport "table", renderer/render/stack_response.h) against the
+// The tabulated stack response (transport "table", renderer/render/stack/stack_response.h) against the
 // random walk it was filled from (transport "walk", the reference), and against conservation laws:
 // - for two presets, the directional diffuse reflectance (elastic part of the continuation) and
 //   the next-event fluorescence (summed over the emission lanes, per LED) at a viewing and a light
@@ -20,10 +20,10 @@
 #include <fstream>
 
 #include "renderer/core/json_node.h"
-#include "renderer/render/layered_bsdf.h"
+#include "renderer/render/integrator/layered_bsdf.h"
 #include "renderer/render/render_job.h"
-#include "renderer/render/stack_response.h"
-#include "renderer/render/stack_response_cache.h"
+#include "renderer/render/stack/stack_response.h"
+#include "renderer/render/stack/stack_response_cache.h"
 #include "layered_table_bench.h"
 
 using namespace ofl;

@@ -1,4 +1,4 @@
-// Light selection by what an LED can give a point (renderer/render/light_choice.h): the choice is
+// Light selection by what an LED can give a point (renderer/render/trace/light_choice.h): the choice is
 // unbiased only if every LED that can light a point has a positive probability there. Checked
 // against brute force over points of the emitting disk, against the closed-form irradiance of a
 // point LED, and by a chi-square test of the choice against its probabilities; the indexed profile
@@ -13,8 +13,8 @@
 #include <glm/geometric.hpp>
 
 #include "renderer/bench/bench_support.h"
-#include "renderer/render/light_choice.h"
-#include "renderer/render/rng.h"
+#include "renderer/render/trace/light_choice.h"
+#include "renderer/render/trace/rng.h"
 #include "renderer/spectral/units.h"
 #include "tests/stat_utils.h"
 

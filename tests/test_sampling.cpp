@@ -4,8 +4,8 @@
 #include <glm/geometric.hpp>
 
 #include "materials/coated.h"
-#include "renderer/render/rng.h"
-#include "renderer/render/sampling.h"
+#include "renderer/render/trace/rng.h"
+#include "renderer/render/trace/sampling.h"
 #include "tests/stat_utils.h"
 
 using namespace ofl;

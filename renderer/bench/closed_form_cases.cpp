@@ -10,7 +10,7 @@
 #include "renderer/core/error.h"
 #include "renderer/core/json_node.h"
 #include "renderer/render/render_job.h"
-#include "renderer/render/sampling.h"
+#include "renderer/render/trace/sampling.h"
 #include "renderer/spectral/units.h"
 
 namespace ofl {
@@ -98,7 +98,7 @@ double disk_irradiance_on_plane(const LedLight& led, const glm::dvec3& p) {
 // Several spot LEDs (pbrt-v4's cone shape, tabulated) whose cones each cover part of a Lambertian
 // patch, of two spectra, one a disk, one facing away: L = R / pi sum_i I0_i S_i P_i cos / r^2.
 // Where a cone does not reach, that LED is never chosen for next-event estimation
-// (renderer/render/light_choice.h); the answer must not change at the cone edges.
+// (renderer/render/trace/light_choice.h); the answer must not change at the cone edges.
 BenchResult spot_leds(const BenchOptions& o) {
   json j = base_scene(o, 1);
   j["camera"] = {{"position", {0, 0, 0.25}}, {"look_at", {0, 0, 0}}, {"up", {0, 1, 0}}, {"fov_deg", 24}, {"resolution", {96, 96}}};
@@ -261,7 +261,7 @@ BenchResult closed_sphere(const BenchOptions& o) {
 // the first spreads its light evenly over a sphere's wall, so the radiance at a wall point x is
 // L = R / pi [I0 S P(theta_x) / r^2 + R Phi / (A (1 - R))], Phi = I0 S int P dOmega, A = 4 pi r^2.
 // The view crosses the cone's edge: wall points outside it get no light sample at all (the LED's
-// weight there is 0, renderer/render/light_choice.h), only the many-bounce light from inside it.
+// weight there is 0, renderer/render/trace/light_choice.h), only the many-bounce light from inside it.
 BenchResult spot_furnace(const BenchOptions& o) {
   json j = base_scene(o, 100000);
   j["camera"] = {{"position", {0, 0, 0}}, {"look_at", {1, 0.55, 0.1}}, {"up", {0, 0, 1}}, {"fov_deg", 90}, {"resolution", {48, 48}}};

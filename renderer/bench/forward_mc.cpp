@@ -8,7 +8,7 @@
 
 #include <tbb/parallel_for.h>
 
-#include "renderer/render/rng.h"
+#include "renderer/render/trace/rng.h"
 
 namespace ofl {
 

@@ -19,7 +19,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "renderer/render/stack_tables.h"
+#include "renderer/render/material/stack_tables.h"
 
 namespace ofl {
 

@@ -28,8 +28,8 @@
 #include "renderer/bench/spatial_cases.h"
 #include "renderer/core/error.h"
 #include "renderer/core/json_node.h"
-#include "renderer/render/layered_bsdf.h"
-#include "renderer/render/render_tables.h"
+#include "renderer/render/integrator/layered_bsdf.h"
+#include "renderer/render/integrator/render_tables.h"
 #include "renderer/spectral/units.h"
 
 namespace ofl {

@@ -9,7 +9,7 @@
 #include <sstream>
 
 #include "renderer/core/error.h"
-#include "renderer/render/stack_walk.h"
+#include "renderer/render/stack/stack_walk.h"
 
 namespace ofl {
 

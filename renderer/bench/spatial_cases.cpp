@@ -17,11 +17,11 @@
 #include "renderer/bench/spatial_cases.h"
 #include "renderer/core/json_node.h"
 #include "renderer/image/image_file.h"
-#include "renderer/render/render_tables.h"
-#include "renderer/render/rng.h"
+#include "renderer/render/integrator/render_tables.h"
 #include "renderer/render/spatial/spatial_tables.h"
-#include "renderer/render/stack_response.h"
-#include "renderer/render/stack_response_cache.h"
+#include "renderer/render/stack/stack_response.h"
+#include "renderer/render/stack/stack_response_cache.h"
+#include "renderer/render/trace/rng.h"
 #include "renderer/spectral/units.h"
 
 namespace ofl {
@@ -205,7 +205,7 @@ CheckCaseResult spatial_fluorescence_pencil(long long samples, uint64_t seed) {
     std::snprintf(q, sizeof q, "share of fluorescence exitance, ring %.2f-%.2f mm", edges[i], edges[i + 1]);
     r.checks.push_back({q, p.mean[i], ref, 3.0 * se});
   }
-  // The total is the position-free table's (renderer/render/stack_response.h), reported beside.
+  // The total is the position-free table's (renderer/render/stack/stack_response.h), reported beside.
   r.extra["spatial"] = {{"shares", p.mean}, {"se", p.se}, {"total", p.total}, {"total_se", p.total_se}};
   r.extra["ring_edges_mm"] = edges;
   r.extra["position_free"] = "all of it in the first ring";

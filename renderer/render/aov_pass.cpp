@@ -9,7 +9,7 @@
 #include <glm/geometric.hpp>
 
 #include "renderer/core/progress.h"
-#include "renderer/render/sampling.h"
+#include "renderer/render/trace/sampling.h"
 
 namespace ofl {
 

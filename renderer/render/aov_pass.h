@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "renderer/render/embree_scene.h"
+#include "renderer/render/trace/embree_scene.h"
 
 namespace ofl {
 

@@ -15,7 +15,7 @@
 
 #include "renderer/core/progress.h"
 #include "renderer/render/aov_pass.h"
-#include "renderer/render/spatial/spatial_checks.h"
+#include "renderer/render/spatial_checks.h"
 
 namespace ofl {
 

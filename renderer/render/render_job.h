@@ -6,7 +6,7 @@
 #include <functional>
 
 #include "renderer/image/spectral_image.h"
-#include "renderer/render/path_tracer.h"
+#include "renderer/render/integrator/path_tracer.h"
 #include "renderer/scene/scene.h"
 #include "renderer/spectral/band_coverage.h"
 

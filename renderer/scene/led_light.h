@@ -31,7 +31,7 @@ struct LedProfile {
   double eval(double cos_theta) const;  // P(theta), 0 behind the emitter
   // An upper bound of P(theta') over every theta' >= theta (cos theta' <= cos_theta), exact for
   // cos^m; 0 only where P is 0 at theta and at every larger angle. For light selection over the
-  // directions a disk emitter covers (renderer/render/light_choice.h).
+  // directions a disk emitter covers (renderer/render/trace/light_choice.h).
   double max_beyond(double cos_theta) const;
   // A bound of max_beyond for light selection, cheaper: for a cos^m profile read from power_bound
   // (the power at the first tabulated cosine at or above cos_theta, at most a few % above c^m near

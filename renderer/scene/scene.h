@@ -38,7 +38,7 @@ struct IntegratorSpec {
   enum class DirectExcitation { kDeterministic, kSampled };
   DirectExcitation direct_excitation = DirectExcitation::kDeterministic;
   // Which LED next-event estimation goes to at a surface point: weighed by what each LED can give
-  // that point (renderer/render/light_choice.h), or by power alone (the older estimator, for
+  // that point (renderer/render/trace/light_choice.h), or by power alone (the older estimator, for
   // comparison). Both are unbiased.
   enum class LightSelection { kReach, kPower };
   LightSelection light_selection = LightSelection::kReach;

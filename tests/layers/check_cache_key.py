@@ -4,14 +4,14 @@ independently: the files the build hashed must be the fill's include closure com
 fill's sources, everything they include, and the .cpp beside each such header of renderer/render/
 and materials/), and the hash compiled in must be the SHA-256 of their current contents, so that
 touching any of them gives a new key. A planted change to one of them must change the hash.
-Usage: check_cache_key.py <source-dir> <build>/generated/renderer/render/stack_transport_hash.h
+Usage: check_cache_key.py <source-dir> <build>/generated/renderer/render/stack/stack_transport_hash.h
 """
 import hashlib
 import os
 import re
 import sys
 
-ROOTS = ["renderer/render/stack_walk.cpp", "renderer/render/stack_response.cpp",
+ROOTS = ["renderer/render/stack/stack_walk.cpp", "renderer/render/stack/stack_response.cpp",
          "renderer/render/spatial/stack_profiles.cpp"]
 INCLUDE = re.compile(r'^[ \t]*#[ \t]*include[ \t]+"((?:renderer|materials)/[^"]+)"', re.M)
 

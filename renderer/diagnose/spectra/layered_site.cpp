@@ -7,8 +7,8 @@
 #include "renderer/core/asset_path.h"
 #include "renderer/core/error.h"
 #include "renderer/diagnose/spectra/flat_patch.h"
-#include "renderer/render/render_tables.h"
-#include "renderer/render/stack_response.h"
+#include "renderer/render/integrator/render_tables.h"
+#include "renderer/render/stack/stack_response.h"
 #include "renderer/scene/scene.h"
 
 namespace ofl {

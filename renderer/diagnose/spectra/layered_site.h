@@ -9,7 +9,7 @@
 // flat patch's 45 degrees (flat_patch.h), gives the radiance
 //   col_k(em) = pi sum_ex f_k(em <- ex) E_L(ex) ex / em,
 //   f_k(em <- ex) = 1/(4 pi) sum_l (n_a/n_l)^2 integral_l Phi(z; mu_o, em) sigma_k,l(em <- ex) Phi(z; mu_i, ex) dz
-// (the factorisation the layered table uses, renderer/render/stack_response.h), with
+// (the factorisation the layered table uses, renderer/render/stack/stack_response.h), with
 // sigma_k,l = mua_k,l QY_k,l Phi_k(em, ex) / a_peak,k (docs/layered-tissue.md). Within an LED band
 // the fluence is averaged over the light's absorbed photons, X_k,L(z) = sum_ex w(ex) Phi(z; mu_i, ex)
 // / sum w, w = a_k(ex) E_L(ex) ex, so that

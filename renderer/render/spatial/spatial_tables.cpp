@@ -4,7 +4,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "renderer/render/stack_fill.h"
+#include "renderer/render/stack/stack_fill.h"
 
 namespace ofl {
 

@@ -6,7 +6,7 @@
 //   re-emitted at `em` comes from each depth slice Z, for a viewer and a light at the profiles'
 //   cosines, c(Z) = sum over fine depth bins b in Z of [(n_ambient / n_b)^2 Phi(b; mu_o, em) / dz_b]
 //   x [sum_ex sigma_b(em <- ex) S(ex) Phi(b; mu_i, ex)] (the depth integrand of the position-free
-//   table's fluorescence, renderer/render/stack_response.h, at the profiles' exact cosines);
+//   table's fluorescence, renderer/render/stack/stack_response.h, at the profiles' exact cosines);
 // - per LED group, the excitation leg: the lateral distribution, in each slice, of the LED light
 //   the fluorophores absorb there (the slice's legs of the excitation bins, weighted by the LED's
 //   photons, the fluence and the fluorophores' absorption);
@@ -15,7 +15,7 @@
 #include <memory>
 #include <vector>
 
-#include "renderer/render/material_tables.h"
+#include "renderer/render/material/material_tables.h"
 #include "renderer/render/spatial/stack_profiles.h"
 
 namespace ofl {
@@ -71,7 +71,7 @@ struct SpatialStack {
   // The fluence in slice z (mm per unit irradiance) of the viewer's emission-band light (the
   // emission leg's amplitude) and of LED group g's light (the excitation leg's); with the densities
   // above they are the legs' Green's functions, which a crossing of regions compares between
-  // materials (renderer/render/spatial/spatial_vertex.cpp, fluorescent_crossing).
+  // materials (renderer/render/integrator/spatial_vertex.cpp, fluorescent_crossing).
   double emission_fluence(const Cosines& co, int em, int z) const;
   double excitation_fluence(int g, const Cosines& ci, int z) const;
 };

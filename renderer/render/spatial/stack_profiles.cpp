@@ -8,8 +8,8 @@
 
 #include "renderer/core/hash.h"
 #include "renderer/core/progress.h"
-#include "renderer/render/stack_fill.h"
-#include "renderer/render/stack_response_cache.h"
+#include "renderer/render/stack/stack_fill.h"
+#include "renderer/render/stack/stack_response_cache.h"
 
 namespace ofl {
 

@@ -3,7 +3,7 @@
 // tabulated once per stack by the stack's own random walk with the lateral position tracked.
 //
 // What is tabulated, for light entering through the top at each of a few exact incidence cosines
-// (photon mode, the same launch as the position-free table's fill, renderer/render/stack_fill.h):
+// (photon mode, the same launch as the position-free table's fill, renderer/render/stack/stack_fill.h):
 // - the elastic exit profile P(r; mu, lambda): where the diffusely reflected light leaves, as ring
 //   masses around the entry point (renderer/render/spatial/radial_profile.h), with the diffuse
 //   reflectance itself. By reciprocity it is also where light leaving toward a viewer at cosine mu
@@ -21,14 +21,14 @@
 //   which the renderer weights the depth slices (how much fluorescence comes from each).
 //
 // The fill is deterministic (walks seeded by cosine, wavelength group and walk) and cached on disk
-// beside the position-free tables (renderer/render/stack_response_cache.h).
+// beside the position-free tables (renderer/render/stack/stack_response_cache.h).
 #pragma once
 #include <filesystem>
 #include <memory>
 #include <string>
 #include <vector>
 
-#include "renderer/render/material_tables.h"
+#include "renderer/render/material/material_tables.h"
 #include "renderer/render/spatial/radial_profile.h"
 
 namespace ofl {
@@ -67,7 +67,7 @@ struct StackProfiles {
   // Fluence legs: [((c * n + wl) * Z + z) * R_leg + j] ring mass and running sum per depth slice;
   // leg_fluence[(c * n + wl) * Z + z] the slice's fluence (mm, per unit irradiance).
   std::vector<float> leg_mass, leg_cdf, leg_fluence;
-  // Depth-resolved fluence on the fine bins of renderer/render/stack_fill.h (DepthBins):
+  // Depth-resolved fluence on the fine bins of renderer/render/stack/stack_fill.h (DepthBins):
   // [(c * n + wl) * B + b], mm per unit irradiance on the surface plane.
   std::vector<float> fine_fluence;
   int fine_bins = 0;

@@ -15,8 +15,8 @@
 
 #include <glm/vec3.hpp>
 
-#include "renderer/render/embree_scene.h"
-#include "renderer/render/sampling.h"
+#include "renderer/render/trace/embree_scene.h"
+#include "renderer/render/trace/sampling.h"
 
 namespace ofl {
 

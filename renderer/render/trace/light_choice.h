@@ -11,7 +11,7 @@
 
 #include <glm/vec3.hpp>
 
-#include "renderer/render/sampling.h"
+#include "renderer/render/trace/sampling.h"
 #include "renderer/scene/led_light.h"
 
 namespace ofl {

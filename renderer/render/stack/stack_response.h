@@ -2,7 +2,7 @@
 // the position-free BSDF of everything below the top interface's specular reflection, as a
 // function of the cosines of the viewing and light directions (azimuth-averaged) and of the
 // wavelength pair, filled once per material at scene load by the stack's own random walk
-// (renderer/render/stack_walk.h), which stays the reference.
+// (renderer/render/stack/stack_walk.h), which stays the reference.
 //
 // How it is filled. For each of `nodes` incidence cosines mu_k = (k + 0.5) / nodes and each group
 // of eight adjacent wavelength bins, `photons` walks enter the stack through the top interface
@@ -36,8 +36,8 @@
 #include <string>
 #include <vector>
 
-#include "renderer/render/material_tables.h"
-#include "renderer/render/stack_response_table.h"
+#include "renderer/render/material/material_tables.h"
+#include "renderer/render/stack/stack_response_table.h"
 
 namespace ofl {
 

@@ -26,10 +26,10 @@
 
 #include <glm/geometric.hpp>
 
-#include "renderer/render/albedo_matrix.h"
-#include "renderer/render/material_tables.h"
-#include "renderer/render/rng.h"
-#include "renderer/render/sampling.h"
+#include "renderer/render/material/albedo_matrix.h"
+#include "renderer/render/material/material_tables.h"
+#include "renderer/render/trace/rng.h"
+#include "renderer/render/trace/sampling.h"
 
 namespace ofl {
 

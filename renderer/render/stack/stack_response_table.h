@@ -23,7 +23,7 @@ struct StackResponseOptions {
   // StackWalker::with_similarity_after); 0 = the exact phase function throughout. At 60 the fill is
   // 3.1-3.6x faster and the table moves by at most 1.3 % (benchmarks/results.d/40_layered_cost.md).
   int similarity_after = 60;
-  // The on-disk cache folder (renderer/render/stack_response_cache.h); empty: no cache.
+  // The on-disk cache folder (renderer/render/stack/stack_response_cache.h); empty: no cache.
   std::filesystem::path cache_dir;
   std::string label;      // what the progress line calls the table (the material's name)
 };

@@ -1,4 +1,4 @@
-#include "renderer/render/render_tables.h"
+#include "renderer/render/integrator/render_tables.h"
 
 #include <algorithm>
 #include <cmath>
@@ -9,8 +9,8 @@
 #include "renderer/core/error.h"
 #include "renderer/render/spatial/spatial_tables.h"
 #include "renderer/render/spatial/stack_profiles.h"
-#include "renderer/render/stack_response.h"
-#include "renderer/render/stack_response_cache.h"
+#include "renderer/render/stack/stack_response.h"
+#include "renderer/render/stack/stack_response_cache.h"
 #include "renderer/spectral/units.h"
 
 namespace ofl {

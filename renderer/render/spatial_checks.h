@@ -13,8 +13,8 @@
 #include <string>
 #include <vector>
 
-#include "renderer/render/embree_scene.h"
-#include "renderer/render/render_tables.h"
+#include "renderer/render/integrator/render_tables.h"
+#include "renderer/render/trace/embree_scene.h"
 
 namespace ofl {
 

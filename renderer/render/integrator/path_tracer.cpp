@@ -1,8 +1,8 @@
-#include "renderer/render/path_tracer.h"
+#include "renderer/render/integrator/path_tracer.h"
 
-#include "renderer/render/albedo_matrix.h"
-#include "renderer/render/layered_bsdf.h"
-#include "renderer/render/led_connection.h"
+#include "renderer/render/integrator/layered_bsdf.h"
+#include "renderer/render/integrator/led_connection.h"
+#include "renderer/render/material/albedo_matrix.h"
 
 #include <algorithm>
 #include <chrono>

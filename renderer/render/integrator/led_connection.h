@@ -3,12 +3,12 @@
 // the shadow ray, and the light sample's geometry term divided by the probability `pmf` with which
 // the LED was chosen (docs/transport.md, "Direct light").
 #pragma once
-#include "renderer/render/embree_scene.h"
-#include "renderer/render/path_lanes.h"
-#include "renderer/render/ray_counts.h"
-#include "renderer/render/render_tables.h"
-#include "renderer/render/rng.h"
-#include "renderer/render/sampling.h"
+#include "renderer/render/integrator/render_tables.h"
+#include "renderer/render/trace/embree_scene.h"
+#include "renderer/render/trace/path_lanes.h"
+#include "renderer/render/trace/ray_counts.h"
+#include "renderer/render/trace/rng.h"
+#include "renderer/render/trace/sampling.h"
 #include "renderer/scene/scene.h"
 
 namespace ofl {

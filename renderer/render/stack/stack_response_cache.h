@@ -28,9 +28,9 @@
 #include <string>
 #include <vector>
 
-#include "renderer/render/material_tables.h"
-#include "renderer/render/stack_response_table.h"
-#include "renderer/render/stack_tables.h"
+#include "renderer/render/material/material_tables.h"
+#include "renderer/render/material/stack_tables.h"
+#include "renderer/render/stack/stack_response_table.h"
 
 namespace ofl {
 

@@ -6,8 +6,8 @@
 #include <algorithm>
 
 #include "materials/material.h"
-#include "renderer/render/material_tables.h"
-#include "renderer/render/rng.h"
+#include "renderer/render/material/material_tables.h"
+#include "renderer/render/trace/rng.h"
 
 namespace ofl {
 

@@ -1,4 +1,4 @@
-#include "renderer/render/stack_tables.h"
+#include "renderer/render/material/stack_tables.h"
 
 #include <algorithm>
 #include <cmath>

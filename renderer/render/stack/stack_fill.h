@@ -1,5 +1,5 @@
 // What the fills of a layer stack's tables share (the position-free table,
-// renderer/render/stack_response.cpp, and the lateral profiles, renderer/render/spatial/
+// renderer/render/stack/stack_response.cpp, and the lateral profiles, renderer/render/spatial/
 // stack_profiles.cpp): the depth bins fluence is tallied in, and photons launched into the stack
 // through its top interface as a source (importance mode) would send them.
 #pragma once
@@ -9,7 +9,7 @@
 
 #include <glm/vec3.hpp>
 
-#include "renderer/render/stack_walk.h"
+#include "renderer/render/stack/stack_walk.h"
 
 namespace ofl {
 

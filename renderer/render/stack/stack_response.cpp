@@ -1,5 +1,5 @@
 // The tabulated stack response (see stack_response.h).
-#include "renderer/render/stack_response.h"
+#include "renderer/render/stack/stack_response.h"
 
 #include <algorithm>
 #include <chrono>
@@ -8,8 +8,8 @@
 #include <tbb/parallel_for.h>
 
 #include "renderer/core/progress.h"
-#include "renderer/render/stack_fill.h"
-#include "renderer/render/stack_response_cache.h"
+#include "renderer/render/stack/stack_fill.h"
+#include "renderer/render/stack/stack_response_cache.h"
 
 namespace ofl {
 

@@ -1,5 +1,5 @@
 // Geometry checks of the spatial transport (see spatial_checks.h).
-#include "renderer/render/spatial/spatial_checks.h"
+#include "renderer/render/spatial_checks.h"
 
 #include <cmath>
 #include <cstdio>
@@ -7,8 +7,8 @@
 
 #include <glm/geometric.hpp>
 
-#include "renderer/render/rng.h"
 #include "renderer/render/spatial/spatial_tables.h"
+#include "renderer/render/trace/rng.h"
 
 namespace ofl {
 

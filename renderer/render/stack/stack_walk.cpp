@@ -1,4 +1,4 @@
-#include "renderer/render/stack_walk.h"
+#include "renderer/render/stack/stack_walk.h"
 
 namespace ofl {
 

@@ -11,13 +11,13 @@
 #include <cstdint>
 #include <vector>
 
-#include "renderer/render/embree_scene.h"
-#include "renderer/render/light_choice.h"
-#include "renderer/render/render_tables.h"
-#include "renderer/render/path_lanes.h"
-#include "renderer/render/ray_counts.h"
-#include "renderer/render/rng.h"
-#include "renderer/render/spatial/spatial_vertex.h"
+#include "renderer/render/trace/embree_scene.h"
+#include "renderer/render/trace/light_choice.h"
+#include "renderer/render/integrator/render_tables.h"
+#include "renderer/render/trace/path_lanes.h"
+#include "renderer/render/trace/ray_counts.h"
+#include "renderer/render/trace/rng.h"
+#include "renderer/render/integrator/spatial_vertex.h"
 
 namespace ofl {
 

@@ -14,7 +14,7 @@
 
 namespace ofl {
 
-struct StackResponse;  // renderer/render/stack_response_table.h
+struct StackResponse;  // renderer/render/stack/stack_response_table.h
 struct SpatialStack;   // renderer/render/spatial/spatial_tables.h
 
 struct StackFluorophoreTables {

@@ -1,4 +1,4 @@
-#include "renderer/render/light_choice.h"
+#include "renderer/render/trace/light_choice.h"
 
 namespace ofl {
 

@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "materials/coated.h"
-#include "renderer/render/stack_tables.h"
+#include "renderer/render/material/stack_tables.h"
 
 namespace ofl {
 

@@ -1,5 +1,5 @@
 // Layered tissue at a path vertex: one stochastic evaluation and sample of the stack's BSDF
-// (materials/layered.h; the walk is renderer/render/stack_walk.h; docs/layered-tissue.md).
+// (materials/layered.h; the walk is renderer/render/stack/stack_walk.h; docs/layered-tissue.md).
 //
 // With transport "walk" the stack's BSDF is evaluated and sampled by one position-free random walk
 // per vertex, as pbrt-v4's LayeredBxDF does, extended to several layers, wavelength lanes and
@@ -26,10 +26,10 @@
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
-#include "renderer/render/path_lanes.h"
-#include "renderer/render/render_tables.h"
-#include "renderer/render/rng.h"
-#include "renderer/render/stack_walk.h"
+#include "renderer/render/trace/path_lanes.h"
+#include "renderer/render/integrator/render_tables.h"
+#include "renderer/render/trace/rng.h"
+#include "renderer/render/stack/stack_walk.h"
 #include "renderer/image/texture.h"
 
 namespace ofl {
@@ -48,7 +48,7 @@ LayeredScatter layered_scatter(const MaterialTables& mt, const StackPointFactors
                                const LightSample& ls, const std::vector<std::vector<float>>& light_shapes, int n,
                                PathLanes& p, Rng& rng);
 
-// The same with the stack's tabulated response (mt.stack.response, renderer/render/stack_response.h)
+// The same with the stack's tabulated response (mt.stack.response, renderer/render/stack/stack_response.h)
 // instead of a walk: the top's specular lobe in closed form as above, the rest interpolated in the
 // table; next-event estimation with MIS for reflected light and the deterministic sum over the
 // LED's bins for fluorescence, as surface materials do; the continuation from the mixture of the

@@ -1,4 +1,4 @@
-#include "renderer/render/sampling.h"
+#include "renderer/render/trace/sampling.h"
 
 #include <glm/geometric.hpp>
 

@@ -1,7 +1,7 @@
 // Layered tissue with lateral transport ("transport": "spatial"): at a camera-path vertex on such
 // a material, light leaves at the vertex x_o but entered elsewhere (docs/layered-tissue.md,
 // "Lateral transport"). The stack's BSSRDF is taken as separable: the position-free table's
-// directional response (renderer/render/stack_response.h) times a radial profile from
+// directional response (renderer/render/stack/stack_response.h) times a radial profile from
 // stack_profiles.h. Per vertex, with one LED chosen by power and one point on it for every
 // connection the vertex makes:
 // 1. The top interface's specular lobe stays at x_o (closed form, next-event estimation there).
@@ -29,12 +29,12 @@
 // end through the layers that tell the materials apart); fluorescence the material at the emission point
 // (docs/layered-tissue.md, "Regions and lateral transport").
 #pragma once
-#include "renderer/render/embree_scene.h"
-#include "renderer/render/path_lanes.h"
-#include "renderer/render/ray_counts.h"
-#include "renderer/render/render_tables.h"
-#include "renderer/render/rng.h"
-#include "renderer/render/sampling.h"
+#include "renderer/render/integrator/render_tables.h"
+#include "renderer/render/trace/embree_scene.h"
+#include "renderer/render/trace/path_lanes.h"
+#include "renderer/render/trace/ray_counts.h"
+#include "renderer/render/trace/rng.h"
+#include "renderer/render/trace/sampling.h"
 
 namespace ofl {
 

@@ -1,7 +1,7 @@
 // The spatial transport's vertex (see spatial_vertex.h).
-#include "renderer/render/spatial/spatial_vertex.h"
+#include "renderer/render/integrator/spatial_vertex.h"
 
-#include "renderer/render/led_connection.h"
+#include "renderer/render/integrator/led_connection.h"
 
 #include <algorithm>
 #include <cmath>
@@ -10,7 +10,7 @@
 
 #include "renderer/render/spatial/spatial_tables.h"
 #include "renderer/render/spatial/surface_probe.h"
-#include "renderer/render/stack_response.h"
+#include "renderer/render/stack/stack_response.h"
 
 namespace ofl {
 

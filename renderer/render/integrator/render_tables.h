@@ -4,8 +4,8 @@
 #pragma once
 #include <vector>
 
-#include "renderer/render/material_tables.h"
-#include "renderer/render/sampling.h"
+#include "renderer/render/material/material_tables.h"
+#include "renderer/render/trace/sampling.h"
 #include "renderer/scene/scene.h"
 
 namespace ofl {

@@ -1,4 +1,4 @@
-#include "renderer/render/embree_scene.h"
+#include "renderer/render/trace/embree_scene.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "renderer/render/led_connection.h"
+#include "renderer/render/integrator/led_connection.h"
 
 #include <cmath>
 

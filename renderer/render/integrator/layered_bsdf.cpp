@@ -3,10 +3,10 @@
 
 #include <glm/geometric.hpp>
 
-#include "renderer/render/layered_bsdf.h"
+#include "renderer/render/integrator/layered_bsdf.h"
 
-#include "renderer/render/stack_response.h"
-#include "renderer/render/stack_walk.h"
+#include "renderer/render/stack/stack_response.h"
+#include "renderer/render/stack/stack_walk.h"
 
 namespace ofl {
 namespace {
