@@ -212,6 +212,34 @@ CheckCaseResult spatial_fluorescence_pencil(long long samples, uint64_t seed) {
   return r;
 }
 
+// One batch's tallies per ring, of the lesion scene and of the healthy reference run with the same photons.
+struct RingPair {
+  std::vector<double> lesion, healthy;
+};
+
+// Per ring, the ratio of the summed tallies over the batches (lesion over healthy) and its standard
+// error by the delta method: se^2 = K / (K - 1) sum_b (l_b - R h_b)^2 / H^2, H the summed healthy tally.
+RingStats ratio_stats(const std::vector<RingPair>& b) {
+  RingStats s;
+  const size_t R = b.front().lesion.size(), K = b.size();
+  s.mean.assign(R, 0.0);
+  s.se.assign(R, 0.0);
+  for (size_t i = 0; i < R; ++i) {
+    double L = 0, H = 0;
+    for (const auto& p : b) {
+      L += p.lesion[i];
+      H += p.healthy[i];
+    }
+    if (!(H > 0)) continue;
+    const double ratio = L / H;
+    double v = 0;
+    for (const auto& p : b) v += (p.lesion[i] - ratio * p.healthy[i]) * (p.lesion[i] - ratio * p.healthy[i]);
+    s.mean[i] = ratio;
+    s.se[i] = std::sqrt(v * double(K) / double(K - 1)) / H;
+  }
+  return s;
+}
+
 // ---------------------------------------------------------------------------------------------
 // A lesion of finite size: a disc of one layered preset inside another, lit uniformly.
 namespace {
@@ -391,11 +419,14 @@ Contrast forward_contrast(const LesionCase& c, long long photons, uint64_t seed,
       if (in_band(w, i)) v += t[k * s.n + w];
     return v;
   };
-  ForwardSetup hs = s;  // healthy reference: everything leaving inside the rings' outer edge
+  // The healthy reference: the same photons (the same seeds) in the tissue without the disc, tallied on
+  // the same rings. Photons that never reach the disc's layers take the same paths in both, so the
+  // ratio's noise is only that of the light the disc changes (common random numbers). With an
+  // independent healthy run, its noise was shared by every ring of a batch and moved whole profiles
+  // together (docs/layered-tissue.md, "How it was checked").
+  ForwardSetup hs = s;
   hs.radius_mm = 0;
-  hs.ring_edges = {0.0, edges.back()};
-  const double area_h = kPi * edges.back() * edges.back();
-  std::vector<std::vector<std::vector<double>>> batches(bands.size()), cones(bands.size());
+  std::vector<std::vector<RingPair>> batches(bands.size()), cones(bands.size());
   const size_t runs = c.fluorescence ? 1 : bands.size();
   for (size_t run = 0; run < runs; ++run) {
     std::vector<double> source;
@@ -403,18 +434,18 @@ Contrast forward_contrast(const LesionCase& c, long long photons, uint64_t seed,
     s.source = hs.source = source;
     for (int b = 0; b < kMcBatches; ++b) {
       const long long np = std::max<long long>(1000, photons / (kMcBatches * long(runs)));
-      const ForwardTally t = run_forward_mc(s, np, seed * 1000 + 37 * run + b);
-      const ForwardTally h = run_forward_mc(hs, np / 4, seed * 1000 + 37 * run + 500 + b);
+      const uint64_t batch_seed = seed * 1000 + 37 * run + b;
+      const ForwardTally t = run_forward_mc(s, np, batch_seed);
+      const ForwardTally h = run_forward_mc(hs, np, batch_seed);
       for (size_t i = 0; i < bands.size(); ++i) {
         if (!c.fluorescence && i != run) continue;
         for (bool cone : {false, true}) {
           const auto& tt = c.fluorescence ? (cone ? t.fluor_cone : t.fluor) : (cone ? t.elastic_cone : t.elastic);
           const auto& hh = c.fluorescence ? (cone ? h.fluor_cone : h.fluor) : (cone ? h.elastic_cone : h.elastic);
-          const double ref = band_sum(hh, 0, i) / area_h / double(h.photons);
-          std::vector<double> v(rings);
+          RingPair v;
           for (size_t k = 0; k < rings; ++k) {
-            const double area = kPi * (edges[k + 1] * edges[k + 1] - edges[k] * edges[k]);
-            v[k] = band_sum(tt, k, i) / area / double(t.photons) / ref;
+            v.lesion.push_back(band_sum(tt, k, i));
+            v.healthy.push_back(band_sum(hh, k, i));
           }
           (cone ? cones : batches)[i].push_back(v);
         }
@@ -423,10 +454,10 @@ Contrast forward_contrast(const LesionCase& c, long long photons, uint64_t seed,
   }
   Contrast out;
   for (size_t i = 0; i < bands.size(); ++i) {
-    const RingStats st = stats_of(cones[i], std::vector<double>(cones[i].size(), 0.0));
+    const RingStats st = ratio_stats(cones[i]);
     out.c.push_back(st.mean);
     out.se.push_back(st.se);
-    const RingStats all = stats_of(batches[i], std::vector<double>(batches[i].size(), 0.0));
+    const RingStats all = ratio_stats(batches[i]);
     (*all_directions)["contrast"].push_back(all.mean);
     (*all_directions)["se"].push_back(all.se);
   }
