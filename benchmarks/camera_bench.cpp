@@ -19,9 +19,9 @@
 
 #include "renderer/analysis/fluorescence_chart.h"
 #include "renderer/camera/camera_pipeline.h"
-#include "renderer/camera/photon_transfer.h"
-#include "renderer/camera/psf.h"
-#include "renderer/camera/sensor_model.h"
+#include "renderer/camera/elements/psf.h"
+#include "renderer/camera/sensor/photon_transfer.h"
+#include "renderer/camera/sensor/sensor_model.h"
 #include "renderer/image/image_file.h"
 #include "renderer/image/spectral_exr.h"
 

@@ -10,7 +10,7 @@
 #include <unistd.h>
 
 #include "renderer/analysis/fluorescence_chart.h"
-#include "renderer/camera/camera_description.h"
+#include "renderer/camera/description/camera_description.h"
 #include "renderer/image/spectral_image.h"
 
 namespace ofl::testing {

@@ -8,7 +8,7 @@
 
 #include "camera_test_util.h"
 #include "renderer/analysis/fluorescence_chart.h"
-#include "renderer/camera/raw_writer.h"
+#include "renderer/camera/raw/raw_writer.h"
 #include "renderer/image/spectral_exr.h"
 
 using namespace ofl;

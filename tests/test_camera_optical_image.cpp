@@ -1,6 +1,6 @@
-// The optical-image stage's geometry (renderer/camera/optics.h): area-correct resampling of the
-// render onto a sensor grid of its own conserves light, sensor pixels outside the render's field
-// of view are zero and named in a warning, and blurring conserves light.
+// The optical-image stage's geometry (renderer/camera/optics/optics.h): area-correct resampling of
+// the render onto a sensor grid of its own conserves light, sensor pixels outside the render's
+// field of view are zero and named in a warning, and blurring conserves light.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -12,7 +12,7 @@
 
 #include "camera_test_util.h"
 #include "renderer/camera/camera_pipeline.h"
-#include "renderer/camera/optics.h"
+#include "renderer/camera/optics/optics.h"
 #include "renderer/core/error.h"
 #include "renderer/image/spectral_exr.h"
 

@@ -1,4 +1,4 @@
-// The lens PSFs of the optical-image stage (renderer/camera/psf.h) against closed forms:
+// The lens PSFs of the optical-image stage (renderer/camera/elements/psf.h) against closed forms:
 // encircled energy of the Airy pattern, the diffraction MTF of a circular pupil computed from the
 // pixel kernel's Fourier transform, the pillbox (defocus) MTF, and a PSF rebuilt from an MTF table.
 #include <gtest/gtest.h>
@@ -6,7 +6,7 @@
 #include <cmath>
 #include <vector>
 
-#include "renderer/camera/psf.h"
+#include "renderer/camera/elements/psf.h"
 
 using namespace ofl;
 

@@ -4,8 +4,8 @@
 
 #include <cmath>
 
-#include "renderer/camera/photon_transfer.h"
-#include "renderer/camera/sensor_model.h"
+#include "renderer/camera/sensor/photon_transfer.h"
+#include "renderer/camera/sensor/sensor_model.h"
 
 using namespace ofl;
 

@@ -7,8 +7,8 @@
 
 #include "camera_test_util.h"
 #include "renderer/camera/camera_pipeline.h"
-#include "renderer/camera/pixel_rng.h"
-#include "renderer/camera/sensor_model.h"
+#include "renderer/camera/sensor/pixel_rng.h"
+#include "renderer/camera/sensor/sensor_model.h"
 
 using namespace ofl;
 using namespace ofl::testing;

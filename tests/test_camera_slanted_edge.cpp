@@ -14,8 +14,8 @@
 #include <nlohmann/json.hpp>
 
 #include "camera_test_util.h"
-#include "renderer/camera/camera_description.h"
-#include "renderer/camera/optics.h"
+#include "renderer/camera/description/camera_description.h"
+#include "renderer/camera/optics/optics.h"
 #include "renderer/core/json_node.h"
 #include "renderer/render/render_job.h"
 #include "renderer/scene/scene.h"

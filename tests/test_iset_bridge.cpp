@@ -9,7 +9,7 @@
 #include <filesystem>
 #include <functional>
 
-#include "renderer/camera/camera_description.h"
+#include "renderer/camera/description/camera_description.h"
 #include "renderer/core/error.h"
 #include "renderer/image/spectral_exr.h"
 #include "renderer/interop/iset_scene.h"

@@ -10,7 +10,7 @@
 
 #include "renderer/analysis/chromaticity.h"
 #include "renderer/camera/camera_pipeline.h"
-#include "renderer/camera/sensor_model.h"
+#include "renderer/camera/sensor/sensor_model.h"
 #include "renderer/sweep/signal_split.h"
 #include "renderer/sweep/sweep_metrics.h"
 

@@ -12,7 +12,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "renderer/camera/camera_description.h"
+#include "renderer/camera/description/camera_description.h"
 #include "renderer/image/spectral_image.h"
 
 namespace py = pybind11;

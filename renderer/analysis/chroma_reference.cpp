@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "renderer/camera/expected_signal.h"
+#include "renderer/camera/sensor/expected_signal.h"
 #include "renderer/analysis/chromaticity.h"
 
 namespace ofl {

@@ -16,7 +16,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "renderer/camera/camera_description.h"
+#include "renderer/camera/description/camera_description.h"
 #include "renderer/spectral/eem.h"
 #include "renderer/spectral/spectrum.h"
 #include "renderer/spectral/wavelength_grid.h"

@@ -4,8 +4,8 @@
 #include <cstdlib>
 #include <sstream>
 
-#include "renderer/camera/camera_color.h"
-#include "renderer/camera/optics.h"
+#include "renderer/camera/optics/optics.h"
+#include "renderer/camera/raw/camera_color.h"
 #include "renderer/core/error.h"
 #include "renderer/core/progress.h"
 #include "renderer/image/image_file.h"

@@ -9,12 +9,12 @@
 
 #include <nlohmann/json.hpp>
 
-#include "renderer/camera/camera_description.h"
-#include "renderer/camera/expected_signal.h"
-#include "renderer/camera/lens_optics.h"
-#include "renderer/camera/raw_preview.h"
-#include "renderer/camera/raw_writer.h"
-#include "renderer/camera/sensor_model.h"
+#include "renderer/camera/description/camera_description.h"
+#include "renderer/camera/optics/lens_optics.h"
+#include "renderer/camera/raw/raw_preview.h"
+#include "renderer/camera/raw/raw_writer.h"
+#include "renderer/camera/sensor/expected_signal.h"
+#include "renderer/camera/sensor/sensor_model.h"
 #include "renderer/image/spectral_image.h"
 
 namespace ofl {

@@ -11,7 +11,7 @@
 #include "renderer/cli/commands.h"
 #include "renderer/core/error.h"
 #include "renderer/image/spectral_exr.h"
-#include "renderer/camera/camera_description.h"
+#include "renderer/camera/description/camera_description.h"
 #include "renderer/interop/iset_oi.h"
 #include "renderer/interop/iset_scene.h"
 

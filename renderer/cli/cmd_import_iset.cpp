@@ -8,7 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "renderer/core/atomic_file.h"
-#include "renderer/camera/camera_description.h"
+#include "renderer/camera/description/camera_description.h"
 #include "renderer/cli/commands.h"
 #include "renderer/core/error.h"
 #include "renderer/image/spectral_exr.h"

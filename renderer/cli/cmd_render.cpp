@@ -7,7 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "renderer/camera/camera_color.h"
+#include "renderer/camera/raw/camera_color.h"
 #include "renderer/camera/camera_pipeline.h"
 #include "renderer/core/atomic_file.h"
 #include "renderer/cli/commands.h"

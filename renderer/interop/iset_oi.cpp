@@ -5,9 +5,9 @@
 #include <nlohmann/json.hpp>
 
 #include "renderer/camera/camera_pipeline.h"
-#include "renderer/camera/expected_signal.h"
-#include "renderer/camera/lens_optics.h"
-#include "renderer/camera/optics.h"
+#include "renderer/camera/optics/lens_optics.h"
+#include "renderer/camera/optics/optics.h"
+#include "renderer/camera/sensor/expected_signal.h"
 #include "renderer/core/error.h"
 #include "renderer/spectral/units.h"
 

@@ -7,14 +7,14 @@
 //   oi.data.photons     single, rows x cols x nWave: spectral irradiance at the sensor plane in
 //                       photons s^-1 m^-2 nm^-1 on the sensor's pixel grid, per band b
 //                         E_b = pi / (1 + 4 N^2 (1 - m)^2) cos^4(theta) L_b <T(lambda) lambda / (h c)>_b
-//                       L the radiance after the optics stage (renderer/camera/optics.h: PSF and
-//                       resampling onto "sensor_pixels", when the camera has "optics"; else the
-//                       radiance on its own grid), T the lens transmittance times the filter stack
-//                       at the pixel's angles (renderer/camera/filter_stack.h), <>_b the mean over
-//                       the band. This is the irradiance oralfluor's sensor integrates
-//                       (renderer/camera/expected_signal.h): QE x pixel area x fill x exposure x
-//                       band width gives its electrons. The filters are in the oi: an ISETCam
-//                       sensor run on it should be the bare sensor.
+//                       L the radiance after the optics stage (renderer/camera/optics/optics.h:
+//                       PSF and resampling onto "sensor_pixels", when the camera has "optics";
+//                       else the radiance on its own grid), T the lens transmittance times the
+//                       filter stack at the pixel's angles (renderer/camera/elements/filter_stack.h),
+//                       <>_b the mean over the band. This is the irradiance oralfluor's sensor
+//                       integrates (renderer/camera/sensor/expected_signal.h): QE x pixel area x
+//                       fill x exposure x band width gives its electrons. The filters are in the
+//                       oi: an ISETCam sensor run on it should be the bare sensor.
 //   oi.data.bitDepth    32
 //   oi.wAngular         horizontal field of view (deg) chosen so that ISETCam's oi width
 //                       2 f tan(wAngular / 2) (f = optics.focalLength) is cols x pixel pitch: one
@@ -27,7 +27,7 @@
 #include <string>
 #include <vector>
 
-#include "renderer/camera/camera_description.h"
+#include "renderer/camera/description/camera_description.h"
 #include "renderer/image/spectral_image.h"
 #include "renderer/formats/mat_file.h"
 

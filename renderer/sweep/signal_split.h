@@ -15,8 +15,8 @@
 #pragma once
 #include <vector>
 
-#include "renderer/camera/camera_description.h"
-#include "renderer/camera/expected_signal.h"
+#include "renderer/camera/description/camera_description.h"
+#include "renderer/camera/sensor/expected_signal.h"
 #include "renderer/image/spectral_image.h"
 #include "renderer/spectral/wavelength_grid.h"
 

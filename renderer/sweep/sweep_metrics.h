@@ -32,8 +32,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "renderer/camera/camera_description.h"
-#include "renderer/camera/cfa_pattern.h"
+#include "renderer/camera/description/camera_description.h"
+#include "renderer/camera/elements/cfa_pattern.h"
 
 namespace ofl {
 

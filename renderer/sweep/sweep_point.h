@@ -19,7 +19,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "renderer/camera/camera_description.h"
+#include "renderer/camera/description/camera_description.h"
 #include "renderer/scene/scene.h"
 #include "renderer/image/texture.h"
 #include "renderer/sweep/rig_generators.h"

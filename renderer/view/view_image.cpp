@@ -9,8 +9,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "renderer/camera/cfa_pattern.h"
-#include "renderer/camera/raw_writer.h"
+#include "renderer/camera/elements/cfa_pattern.h"
+#include "renderer/camera/raw/raw_writer.h"
 #include "renderer/core/error.h"
 #include "renderer/image/spectral_exr.h"
 #include "renderer/spectral/color.h"

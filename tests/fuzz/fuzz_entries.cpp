@@ -10,7 +10,7 @@
 #include <filesystem>
 #include <fstream>
 
-#include "renderer/camera/camera_description.h"
+#include "renderer/camera/description/camera_description.h"
 #include "renderer/core/csv.h"
 #include "renderer/core/error.h"
 #include "renderer/core/json_node.h"

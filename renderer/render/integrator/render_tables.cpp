@@ -4,8 +4,8 @@
 #include <cmath>
 #include <cstdio>
 
-#include "renderer/camera/camera_description.h"
-#include "renderer/camera/expected_signal.h"
+#include "renderer/camera/description/camera_description.h"
+#include "renderer/camera/sensor/expected_signal.h"
 #include "renderer/core/error.h"
 #include "renderer/render/spatial/spatial_tables.h"
 #include "renderer/render/spatial/stack_profiles.h"

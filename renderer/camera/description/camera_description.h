@@ -25,9 +25,9 @@
 
 #include <nlohmann/json.hpp>
 
-#include "renderer/camera/cfa_pattern.h"
-#include "renderer/camera/filter_stack.h"
-#include "renderer/camera/optics_description.h"
+#include "renderer/camera/description/optics_description.h"
+#include "renderer/camera/elements/cfa_pattern.h"
+#include "renderer/camera/elements/filter_stack.h"
 #include "renderer/core/json_node.h"
 #include "renderer/spectral/spectrum.h"
 

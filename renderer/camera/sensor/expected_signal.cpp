@@ -1,4 +1,4 @@
-#include "renderer/camera/expected_signal.h"
+#include "renderer/camera/sensor/expected_signal.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>

@@ -1,4 +1,4 @@
-#include "renderer/camera/cfa_pattern.h"
+#include "renderer/camera/elements/cfa_pattern.h"
 
 #include <algorithm>
 #include <cctype>

@@ -8,7 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "renderer/camera/psf.h"
+#include "renderer/camera/elements/psf.h"
 #include "renderer/core/json_node.h"
 
 namespace ofl {

@@ -1,4 +1,4 @@
-#include "renderer/camera/raw_writer.h"
+#include "renderer/camera/raw/raw_writer.h"
 
 #include <cstdlib>
 #include <ctime>

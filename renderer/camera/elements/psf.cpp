@@ -1,4 +1,4 @@
-#include "renderer/camera/psf.h"
+#include "renderer/camera/elements/psf.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "renderer/camera/sensor_model.h"
+#include "renderer/camera/sensor/sensor_model.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -7,7 +7,7 @@
 #include <atomic>
 #include <cmath>
 
-#include "renderer/camera/pixel_rng.h"
+#include "renderer/camera/sensor/pixel_rng.h"
 
 namespace ofl {
 

@@ -1,4 +1,4 @@
-#include "renderer/camera/optics_description.h"
+#include "renderer/camera/description/optics_description.h"
 
 #include <algorithm>
 #include <cmath>

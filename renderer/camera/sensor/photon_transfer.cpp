@@ -1,4 +1,4 @@
-#include "renderer/camera/photon_transfer.h"
+#include "renderer/camera/sensor/photon_transfer.h"
 
 #include <cmath>
 #include <stdexcept>

@@ -12,7 +12,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "renderer/camera/cfa_pattern.h"
+#include "renderer/camera/elements/cfa_pattern.h"
 #include "renderer/core/json_node.h"
 
 namespace ofl {

@@ -7,7 +7,7 @@
 #pragma once
 #include <array>
 
-#include "renderer/camera/camera_description.h"
+#include "renderer/camera/description/camera_description.h"
 
 namespace ofl {
 

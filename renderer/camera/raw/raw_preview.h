@@ -8,8 +8,8 @@
 #include <string>
 #include <vector>
 
-#include "renderer/camera/camera_color.h"
-#include "renderer/camera/cfa_pattern.h"
+#include "renderer/camera/elements/cfa_pattern.h"
+#include "renderer/camera/raw/camera_color.h"
 
 namespace ofl {
 

@@ -11,8 +11,8 @@
 #include <string>
 #include <vector>
 
-#include "renderer/camera/camera_description.h"
-#include "renderer/camera/lens_optics.h"
+#include "renderer/camera/description/camera_description.h"
+#include "renderer/camera/optics/lens_optics.h"
 #include "renderer/image/spectral_image.h"
 
 namespace ofl {

@@ -1,4 +1,4 @@
-#include "renderer/camera/lens_optics.h"
+#include "renderer/camera/optics/lens_optics.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "renderer/camera/camera_description.h"
+#include "renderer/camera/description/camera_description.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "renderer/camera/raw_preview.h"
+#include "renderer/camera/raw/raw_preview.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>

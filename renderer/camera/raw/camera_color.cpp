@@ -1,11 +1,11 @@
-#include "renderer/camera/camera_color.h"
+#include "renderer/camera/raw/camera_color.h"
 
 #include <Eigen/Dense>
 
 #include <algorithm>
 #include <stdexcept>
 
-#include "renderer/camera/expected_signal.h"
+#include "renderer/camera/sensor/expected_signal.h"
 #include "renderer/spectral/color.h"
 
 namespace ofl {

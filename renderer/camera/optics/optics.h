@@ -36,7 +36,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "renderer/camera/optics_description.h"
+#include "renderer/camera/description/optics_description.h"
 #include "renderer/image/spectral_image.h"
 
 namespace ofl {

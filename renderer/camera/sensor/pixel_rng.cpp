@@ -1,4 +1,4 @@
-#include "renderer/camera/pixel_rng.h"
+#include "renderer/camera/sensor/pixel_rng.h"
 
 #include <array>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "renderer/camera/filter_stack.h"
+#include "renderer/camera/elements/filter_stack.h"
 
 #include <algorithm>
 

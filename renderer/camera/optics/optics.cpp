@@ -1,4 +1,4 @@
-#include "renderer/camera/optics.h"
+#include "renderer/camera/optics/optics.h"
 
 #include <tbb/parallel_for.h>
 
@@ -7,9 +7,9 @@
 #include <map>
 #include <sstream>
 
-#include "renderer/camera/camera_description.h"
-#include "renderer/camera/lens_optics.h"
-#include "renderer/camera/psf.h"
+#include "renderer/camera/description/camera_description.h"
+#include "renderer/camera/optics/lens_optics.h"
+#include "renderer/camera/elements/psf.h"
 #include "renderer/core/error.h"
 #include "renderer/core/progress.h"
 #include "renderer/core/memory_limit.h"

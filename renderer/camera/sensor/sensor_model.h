@@ -16,7 +16,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "renderer/camera/camera_description.h"
+#include "renderer/camera/description/camera_description.h"
 
 namespace ofl {
 
