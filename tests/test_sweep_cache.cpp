@@ -1,7 +1,7 @@
-// The sweep's render cache (renderer/sweep/render_cache.h): a sweep whose points differ only in a
-// camera field renders once and gives, bit for bit, the metrics of a sweep that renders every point;
-// a changed byte of a spectrum CSV the scene names, or another spp, is another render; the scene
-// loader's inputs are recorded the same way on every load; a cached render reads back exactly.
+// The sweep's render cache (renderer/sweep/store/render_cache.h): a sweep whose points differ only
+// in a camera field renders once and gives, bit for bit, the metrics of a sweep that renders every
+// point; a changed byte of a spectrum CSV the scene names, or another spp, is another render; the
+// scene loader's inputs are recorded the same way on every load; a cached render reads back exactly.
 #include <gtest/gtest.h>
 
 #include <sys/wait.h>
@@ -17,11 +17,11 @@
 
 #include "renderer/core/file_dependencies.h"
 #include "renderer/scene/scene.h"
-#include "renderer/sweep/render_cache.h"
-#include "renderer/sweep/sweep_design.h"
+#include "renderer/sweep/design/sweep_design.h"
+#include "renderer/sweep/design/sweep_spec.h"
+#include "renderer/sweep/store/render_cache.h"
 #include "renderer/sweep/sweep_point.h"
 #include "renderer/sweep/sweep_runner.h"
-#include "renderer/sweep/sweep_spec.h"
 
 using namespace ofl;
 

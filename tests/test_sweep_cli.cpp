@@ -24,7 +24,7 @@
 #include "cli_runner.h"
 #include "sanitizer_scale.h"
 
-#include "renderer/sweep/sweep_spec.h"
+#include "renderer/sweep/design/sweep_spec.h"
 
 extern char** environ;
 

@@ -7,8 +7,8 @@
 #include <set>
 
 #include "renderer/core/error.h"
-#include "renderer/sweep/sweep_design.h"
-#include "renderer/sweep/sweep_spec.h"
+#include "renderer/sweep/design/sweep_design.h"
+#include "renderer/sweep/design/sweep_spec.h"
 
 using namespace ofl;
 

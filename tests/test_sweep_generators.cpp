@@ -9,8 +9,8 @@
 
 #include "renderer/core/error.h"
 #include "renderer/scene/scene.h"
-#include "renderer/sweep/rig_generators.h"
-#include "renderer/sweep/sweep_design.h"
+#include "renderer/sweep/design/rig_generators.h"
+#include "renderer/sweep/design/sweep_design.h"
 
 using namespace ofl;
 

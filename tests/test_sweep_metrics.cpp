@@ -11,8 +11,8 @@
 #include "renderer/analysis/chromaticity.h"
 #include "renderer/camera/camera_pipeline.h"
 #include "renderer/camera/sensor/sensor_model.h"
-#include "renderer/sweep/signal_split.h"
-#include "renderer/sweep/sweep_metrics.h"
+#include "renderer/sweep/metrics/signal_split.h"
+#include "renderer/sweep/metrics/sweep_metrics.h"
 
 using namespace ofl;
 

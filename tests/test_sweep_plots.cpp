@@ -8,7 +8,7 @@
 #include <regex>
 #include <set>
 
-#include "renderer/sweep/sweep_plots.h"
+#include "renderer/sweep/metrics/sweep_plots.h"
 
 using namespace ofl;
 

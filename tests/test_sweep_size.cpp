@@ -15,10 +15,10 @@
 #include <nlohmann/json.hpp>
 
 #include "renderer/core/error.h"
-#include "renderer/sweep/sweep_design.h"
+#include "renderer/sweep/design/sweep_design.h"
+#include "renderer/sweep/design/sweep_spec.h"
 #include "renderer/sweep/sweep_point.h"
 #include "renderer/sweep/sweep_runner.h"
-#include "renderer/sweep/sweep_spec.h"
 #include "tests/cli_runner.h"
 
 using namespace ofl;

@@ -7,8 +7,8 @@
 
 #include <fstream>
 
+#include "renderer/sweep/store/sweep_store.h"
 #include "renderer/sweep/sweep_point.h"
-#include "renderer/sweep/sweep_store.h"
 
 using namespace ofl;
 

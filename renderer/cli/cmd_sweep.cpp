@@ -8,8 +8,8 @@
 
 #include "renderer/cli/commands.h"
 #include "renderer/core/error.h"
+#include "renderer/sweep/design/sweep_spec.h"
 #include "renderer/sweep/sweep_runner.h"
-#include "renderer/sweep/sweep_spec.h"
 
 namespace ofl {
 

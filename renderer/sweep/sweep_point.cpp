@@ -18,11 +18,11 @@
 #include "renderer/image/png_writer.h"
 #include "renderer/render/render_job.h"
 #include "renderer/spectral/fluorophore_library.h"
-#include "renderer/sweep/render_cache.h"
-#include "renderer/sweep/rig_generators.h"
-#include "renderer/sweep/signal_split.h"
-#include "renderer/sweep/sweep_metrics.h"
-#include "renderer/sweep/sweep_plots.h"
+#include "renderer/sweep/design/rig_generators.h"
+#include "renderer/sweep/metrics/signal_split.h"
+#include "renderer/sweep/metrics/sweep_metrics.h"
+#include "renderer/sweep/metrics/sweep_plots.h"
+#include "renderer/sweep/store/render_cache.h"
 
 namespace ofl {
 namespace {

@@ -22,9 +22,9 @@
 #include "renderer/camera/description/camera_description.h"
 #include "renderer/scene/scene.h"
 #include "renderer/image/texture.h"
-#include "renderer/sweep/rig_generators.h"
-#include "renderer/sweep/sweep_design.h"
-#include "renderer/sweep/sweep_spec.h"
+#include "renderer/sweep/design/rig_generators.h"
+#include "renderer/sweep/design/sweep_design.h"
+#include "renderer/sweep/design/sweep_spec.h"
 
 namespace ofl {
 

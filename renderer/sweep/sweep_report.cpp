@@ -8,10 +8,10 @@
 #include "renderer/plot/vector_plot.h"
 
 #include "renderer/core/error.h"
-#include "renderer/sweep/sweep_metrics.h"
-#include "renderer/sweep/sweep_plots.h"
+#include "renderer/sweep/metrics/sweep_metrics.h"
+#include "renderer/sweep/metrics/sweep_plots.h"
+#include "renderer/sweep/store/sweep_store.h"
 #include "renderer/sweep/sweep_point.h"
-#include "renderer/sweep/sweep_store.h"
 
 namespace ofl {
 namespace {

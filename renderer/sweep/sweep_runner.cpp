@@ -10,14 +10,14 @@
 
 #include "renderer/core/error.h"
 #include "renderer/core/progress.h"
-#include "renderer/sweep/rig_generators.h"
-#include "renderer/sweep/sweep_design.h"
+#include "renderer/sweep/design/rig_generators.h"
+#include "renderer/sweep/design/sweep_design.h"
 #include "renderer/sweep/sweep_mpi.h"
-#include "renderer/sweep/render_cache.h"
+#include "renderer/sweep/store/render_cache.h"
 #include "renderer/sweep/sweep_point.h"
 #include "renderer/sweep/sweep_report.h"
-#include "renderer/sweep/sweep_lock.h"
-#include "renderer/sweep/sweep_store.h"
+#include "renderer/sweep/store/sweep_lock.h"
+#include "renderer/sweep/store/sweep_store.h"
 
 namespace ofl {
 

@@ -25,8 +25,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "renderer/sweep/sweep_design.h"
-#include "renderer/sweep/sweep_spec.h"
+#include "renderer/sweep/design/sweep_design.h"
+#include "renderer/sweep/design/sweep_spec.h"
 
 namespace ofl {
 

@@ -27,7 +27,7 @@
 #include "renderer/scene/scene.h"
 #include "renderer/spectral/eem.h"
 #include "renderer/spectral/spectrum.h"
-#include "renderer/sweep/sweep_spec.h"
+#include "renderer/sweep/design/sweep_spec.h"
 
 namespace ofl::fuzz {
 namespace {

@@ -1,4 +1,4 @@
-#include "renderer/sweep/rig_generators.h"
+#include "renderer/sweep/design/rig_generators.h"
 
 #include <cmath>
 #include <fstream>

@@ -1,4 +1,4 @@
-#include "renderer/sweep/signal_split.h"
+#include "renderer/sweep/metrics/signal_split.h"
 
 #include <algorithm>
 #include <stdexcept>

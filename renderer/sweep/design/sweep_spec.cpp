@@ -1,4 +1,4 @@
-#include "renderer/sweep/sweep_spec.h"
+#include "renderer/sweep/design/sweep_spec.h"
 
 #include <cmath>
 #include <cctype>

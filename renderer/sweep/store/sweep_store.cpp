@@ -1,4 +1,4 @@
-#include "renderer/sweep/sweep_store.h"
+#include "renderer/sweep/store/sweep_store.h"
 
 #include <fcntl.h>
 #include <signal.h>

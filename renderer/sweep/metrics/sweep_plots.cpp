@@ -1,4 +1,4 @@
-#include "renderer/sweep/sweep_plots.h"
+#include "renderer/sweep/metrics/sweep_plots.h"
 
 #include "renderer/plot/axis_frame.h"
 #include "renderer/plot/palette.h"

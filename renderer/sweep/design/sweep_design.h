@@ -13,7 +13,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "renderer/sweep/sweep_spec.h"
+#include "renderer/sweep/design/sweep_spec.h"
 
 namespace ofl {
 

@@ -1,4 +1,4 @@
-#include "renderer/sweep/sweep_metrics.h"
+#include "renderer/sweep/metrics/sweep_metrics.h"
 
 #include <algorithm>
 #include <cmath>

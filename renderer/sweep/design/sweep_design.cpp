@@ -1,4 +1,4 @@
-#include "renderer/sweep/sweep_design.h"
+#include "renderer/sweep/design/sweep_design.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "renderer/sweep/sweep_lock.h"
+#include "renderer/sweep/store/sweep_lock.h"
 
 #include <fcntl.h>
 #include <sys/stat.h>

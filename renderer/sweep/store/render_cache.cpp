@@ -1,4 +1,4 @@
-#include "renderer/sweep/render_cache.h"
+#include "renderer/sweep/store/render_cache.h"
 
 #include <algorithm>
 #include <cstdio>
@@ -7,7 +7,7 @@
 #include "renderer/core/error.h"
 #include "renderer/core/hash.h"
 #include "renderer/image/spectral_exr.h"
-#include "renderer/sweep/sweep_store.h"
+#include "renderer/sweep/store/sweep_store.h"
 
 namespace ofl {
 namespace {
