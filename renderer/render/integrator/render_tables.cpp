@@ -61,13 +61,10 @@ void build_stack_responses(const Scene& sc, RenderTables& rt) {
   }
 }
 
-}  // namespace
-
-RenderTables::RenderTables(const Scene& sc, const std::vector<double>& importance) : n(sc.grid().size()), grid(sc.grid()) {
-  const double step = grid.step_nm;
-  const bool fluo = sc.integrator.fluorescence;
-
-  // Light spectra grouped by shape.
+// The LEDs' spectra grouped by shape (one photon shape per group, each LED's scale and group) and
+// the choice of a light by power.
+void group_light_spectra(const Scene& sc, RenderTables& rt) {
+  const int n = rt.n;
   int groups = 0;
   std::vector<int> group_of_first(sc.lights.size(), -1);
   for (size_t i = 0; i < sc.lights.size(); ++i) {
@@ -77,64 +74,80 @@ RenderTables::RenderTables(const Scene& sc, const std::vector<double>& importanc
       std::vector<float> shape(n, 0.0f);
       double i0 = sc.lights[i].intensity_W_sr;
       for (int k = 0; k < n; ++k) shape[k] = i0 > 0 ? float(sc.lights[i].spectral_photons[k] / i0) : 0.0f;
-      light_shape.push_back(std::move(shape));
+      rt.light_shape.push_back(std::move(shape));
     }
-    light_group.push_back(group_of_first[g]);
-    light_scale.push_back(float(sc.lights[i].intensity_W_sr));
+    rt.light_group.push_back(group_of_first[g]);
+    rt.light_scale.push_back(float(sc.lights[i].intensity_W_sr));
   }
   std::vector<double> power;
   for (auto& l : sc.lights) power.push_back(l.power_W);
-  light_select = DiscreteDistribution(power);
+  rt.light_select = DiscreteDistribution(power);
+}
 
-  for (const Material& m : sc.materials) {
-    MaterialTables t;
-    auto t_out = [&](int k) { return m.layer_out.empty() ? 1.0 : m.layer_out[k]; };
-    auto t_in = [&](int k) { return m.layer_in.empty() ? 1.0 : m.layer_in[k]; };
-    t.reflectance.resize(n);
-    for (int k = 0; k < n; ++k) t.reflectance[k] = float(m.reflectance[k] * t_out(k) * t_in(k));
-    if (!m.emission.empty()) {
-      t.emission.resize(n);
-      for (int k = 0; k < n; ++k) t.emission[k] = float(m.emission[k] * photons_per_joule(grid.wavelength(k)));
+// One fluorophore's re-emission table and its direct response to each LED group's spectrum; t_out
+// and t_in are the material's layer transmissions on the way out and in.
+template <class Out, class In>
+FluorophoreTables fluorophore_tables(const Scene& sc, const RenderTables& rt, const FluorophoreLayer& f, Out t_out, In t_in) {
+  const int n = rt.n;
+  const double step = rt.grid.step_nm;
+  FluorophoreTables ft;
+  ft.texture = f.texture;
+  ft.texture_offset = float(f.texture_offset);
+  ft.texture_scale = float(f.texture_scale);
+  ft.concentration = float(f.concentration);
+  const GridEem& e = sc.eems[f.eem];
+  tabulate_reemission(n, [&](int em, int ex) { return e.at(em, ex) * step * t_out(em) * t_in(ex); }, ft.phi, ft.row_sum,
+                      ft.row_cdf);
+  for (const auto& shape : rt.light_shape) {
+    std::vector<float> d(n, 0.0f);
+    for (int em = 0; em < n; ++em) {
+      double s = 0;
+      for (int ex = 0; ex < em; ++ex) s += double(ft.phi[size_t(em) * n + ex]) * shape[ex];
+      d[em] = float(s);
     }
-    t.reflectance_texture = m.reflectance_texture;
-    t.coated = m.coating.enabled;
-    if (t.coated) {
-      t.coating.prepare(m.coating.ior, m.coating.roughness);
-      double reg = sc.integrator.regularize_glossy;
-      if (reg > m.coating.roughness) t.coating_regularized.prepare(m.coating.ior, reg);
-      else t.coating_regularized = t.coating;
-    }
-    if (fluo) {
-      for (const auto& f : m.fluorophores) {
-        if (f.concentration <= 0) continue;
-        FluorophoreTables ft;
-        ft.texture = f.texture;
-        ft.texture_offset = float(f.texture_offset);
-        ft.texture_scale = float(f.texture_scale);
-        ft.concentration = float(f.concentration);
-        const GridEem& e = sc.eems[f.eem];
-        tabulate_reemission(n, [&](int em, int ex) { return e.at(em, ex) * step * t_out(em) * t_in(ex); }, ft.phi,
-                            ft.row_sum, ft.row_cdf);
-        for (const auto& shape : light_shape) {
-          std::vector<float> d(n, 0.0f);
-          for (int em = 0; em < n; ++em) {
-            double s = 0;
-            for (int ex = 0; ex < em; ++ex) s += double(ft.phi[size_t(em) * n + ex]) * shape[ex];
-            d[em] = float(s);
-          }
-          ft.direct.push_back(std::move(d));
-        }
-        t.fluorophores.push_back(std::move(ft));
-      }
-    }
-    t.stack = build_stack_tables(m.stack, sc.eems, light_shape, fluo);
-    materials.push_back(std::move(t));
+    ft.direct.push_back(std::move(d));
   }
+  return ft;
+}
 
-  // Band weights: overlap of grid bin i with band b, over the band width.
+// A material's render-time tables: reflectance and emission on the grid, the coating's lobes, the
+// fluorophores' tables and the layered stack's.
+MaterialTables material_tables(const Scene& sc, const RenderTables& rt, const Material& m) {
+  const int n = rt.n;
+  const bool fluo = sc.integrator.fluorescence;
+  MaterialTables t;
+  auto t_out = [&](int k) { return m.layer_out.empty() ? 1.0 : m.layer_out[k]; };
+  auto t_in = [&](int k) { return m.layer_in.empty() ? 1.0 : m.layer_in[k]; };
+  t.reflectance.resize(n);
+  for (int k = 0; k < n; ++k) t.reflectance[k] = float(m.reflectance[k] * t_out(k) * t_in(k));
+  if (!m.emission.empty()) {
+    t.emission.resize(n);
+    for (int k = 0; k < n; ++k) t.emission[k] = float(m.emission[k] * photons_per_joule(rt.grid.wavelength(k)));
+  }
+  t.reflectance_texture = m.reflectance_texture;
+  t.coated = m.coating.enabled;
+  if (t.coated) {
+    t.coating.prepare(m.coating.ior, m.coating.roughness);
+    double reg = sc.integrator.regularize_glossy;
+    if (reg > m.coating.roughness) t.coating_regularized.prepare(m.coating.ior, reg);
+    else t.coating_regularized = t.coating;
+  }
+  if (fluo)
+    for (const auto& f : m.fluorophores)
+      if (f.concentration > 0) t.fluorophores.push_back(fluorophore_tables(sc, rt, f, t_out, t_in));
+  t.stack = build_stack_tables(m.stack, sc.eems, rt.light_shape, fluo);
+  return t;
+}
+
+// The output bands' weights per grid bin, and the wavelength sampling: uniform over the bins that
+// reach a band, half of it moved by importance (the given weights, else the importance camera's
+// summed QE) so that every band keeps a floor of samples; the film's scale per bin follows.
+void bands_and_wavelengths(const Scene& sc, const std::vector<double>& importance, RenderTables& rt) {
+  const int n = rt.n;
+  const WavelengthGrid& grid = rt.grid;
   const BandSet& bs = sc.integrator.bands;
-  bands = bs.size();
-  band_weights.assign(n, {});
+  rt.bands = bs.size();
+  rt.band_weights.assign(n, {});
   std::vector<double> useful(n, 0.0);
   std::vector<double> camera_weight;
   if (importance.empty() && !sc.integrator.importance_camera.empty()) {
@@ -144,25 +157,32 @@ RenderTables::RenderTables(const Scene& sc, const std::vector<double>& importanc
       for (int c = 0; c < 3; ++c) camera_weight[i] += system_qe(cam, c, grid.wavelength(i), 0.0, 0.0);
   }
   for (int i = 0; i < n; ++i) {
-    for (int b = 0; b < bands; ++b) {
+    for (int b = 0; b < rt.bands; ++b) {
       double lo = std::max(grid.bin_lo(i), bs.centre(b) - 0.5 * bs.step_nm);
       double hi = std::min(grid.bin_hi(i), bs.centre(b) + 0.5 * bs.step_nm);
-      if (hi - lo > 1e-9) band_weights[i].push_back({b, float((hi - lo) / bs.step_nm)});
+      if (hi - lo > 1e-9) rt.band_weights[i].push_back({b, float((hi - lo) / bs.step_nm)});
     }
-    useful[i] = band_weights[i].empty() ? 0.0 : 1.0;
+    useful[i] = rt.band_weights[i].empty() ? 0.0 : 1.0;
   }
   const std::vector<double>& imp = importance.empty() ? camera_weight : importance;
   if (!imp.empty()) {
-    // Half uniform, half by importance: every band keeps a floor of samples (unbiased everywhere).
     double su = 0, si = 0;
     for (int i = 0; i < n; ++i) { su += useful[i]; si += useful[i] * imp[i]; }
     if (si > 0)
       for (int i = 0; i < n; ++i) useful[i] = useful[i] * (0.5 / su + 0.5 * imp[i] / si);
   }
-  wavelength_pdf = DiscreteDistribution(useful);
-  film_scale.assign(n, 0.0);
+  rt.wavelength_pdf = DiscreteDistribution(useful);
+  rt.film_scale.assign(n, 0.0);
   for (int i = 0; i < n; ++i)
-    if (wavelength_pdf.pmf[i] > 0) film_scale[i] = photon_energy_J(grid.wavelength(i)) / wavelength_pdf.pmf[i];
+    if (rt.wavelength_pdf.pmf[i] > 0) rt.film_scale[i] = photon_energy_J(grid.wavelength(i)) / rt.wavelength_pdf.pmf[i];
+}
+
+}  // namespace
+
+RenderTables::RenderTables(const Scene& sc, const std::vector<double>& importance) : n(sc.grid().size()), grid(sc.grid()) {
+  group_light_spectra(sc, *this);
+  for (const Material& m : sc.materials) materials.push_back(material_tables(sc, *this, m));
+  bands_and_wavelengths(sc, importance, *this);
   build_stack_responses(sc, *this);
 }
 
