@@ -212,6 +212,10 @@ CheckCaseResult spatial_fluorescence_pencil(long long samples, uint64_t seed) {
   return r;
 }
 
+// ---------------------------------------------------------------------------------------------
+// A lesion of finite size: a disc of one layered preset inside another, lit uniformly.
+namespace {
+
 // One batch's tallies per ring, of the lesion scene and of the healthy reference run with the same photons.
 struct RingPair {
   std::vector<double> lesion, healthy;
@@ -239,10 +243,6 @@ RingStats ratio_stats(const std::vector<RingPair>& b) {
   }
   return s;
 }
-
-// ---------------------------------------------------------------------------------------------
-// A lesion of finite size: a disc of one layered preset inside another, lit uniformly.
-namespace {
 
 struct LesionCase {
   std::string inside = "dysplasia", outside = "lateral_tongue";
