@@ -84,10 +84,13 @@ void group_light_spectra(const Scene& sc, RenderTables& rt) {
   rt.light_select = DiscreteDistribution(power);
 }
 
-// One fluorophore's re-emission table and its direct response to each LED group's spectrum; t_out
-// and t_in are the material's layer transmissions on the way out and in.
-template <class Out, class In>
-FluorophoreTables fluorophore_tables(const Scene& sc, const RenderTables& rt, const FluorophoreLayer& f, Out t_out, In t_in) {
+// A material's layer transmission at grid bin k on the way out and on the way in (1 without a layer).
+double transmission_out(const Material& m, int k) { return m.layer_out.empty() ? 1.0 : m.layer_out[k]; }
+double transmission_in(const Material& m, int k) { return m.layer_in.empty() ? 1.0 : m.layer_in[k]; }
+
+// One fluorophore of material m: its re-emission table and its direct response to each LED group's
+// spectrum.
+FluorophoreTables fluorophore_tables(const Scene& sc, const RenderTables& rt, const Material& m, const FluorophoreLayer& f) {
   const int n = rt.n;
   const double step = rt.grid.step_nm;
   FluorophoreTables ft;
@@ -96,8 +99,9 @@ FluorophoreTables fluorophore_tables(const Scene& sc, const RenderTables& rt, co
   ft.texture_scale = float(f.texture_scale);
   ft.concentration = float(f.concentration);
   const GridEem& e = sc.eems[f.eem];
-  tabulate_reemission(n, [&](int em, int ex) { return e.at(em, ex) * step * t_out(em) * t_in(ex); }, ft.phi, ft.row_sum,
-                      ft.row_cdf);
+  tabulate_reemission(
+      n, [&](int em, int ex) { return e.at(em, ex) * step * transmission_out(m, em) * transmission_in(m, ex); }, ft.phi,
+      ft.row_sum, ft.row_cdf);
   for (const auto& shape : rt.light_shape) {
     std::vector<float> d(n, 0.0f);
     for (int em = 0; em < n; ++em) {
@@ -116,10 +120,8 @@ MaterialTables material_tables(const Scene& sc, const RenderTables& rt, const Ma
   const int n = rt.n;
   const bool fluo = sc.integrator.fluorescence;
   MaterialTables t;
-  auto t_out = [&](int k) { return m.layer_out.empty() ? 1.0 : m.layer_out[k]; };
-  auto t_in = [&](int k) { return m.layer_in.empty() ? 1.0 : m.layer_in[k]; };
   t.reflectance.resize(n);
-  for (int k = 0; k < n; ++k) t.reflectance[k] = float(m.reflectance[k] * t_out(k) * t_in(k));
+  for (int k = 0; k < n; ++k) t.reflectance[k] = float(m.reflectance[k] * transmission_out(m, k) * transmission_in(m, k));
   if (!m.emission.empty()) {
     t.emission.resize(n);
     for (int k = 0; k < n; ++k) t.emission[k] = float(m.emission[k] * photons_per_joule(rt.grid.wavelength(k)));
@@ -134,7 +136,7 @@ MaterialTables material_tables(const Scene& sc, const RenderTables& rt, const Ma
   }
   if (fluo)
     for (const auto& f : m.fluorophores)
-      if (f.concentration > 0) t.fluorophores.push_back(fluorophore_tables(sc, rt, f, t_out, t_in));
+      if (f.concentration > 0) t.fluorophores.push_back(fluorophore_tables(sc, rt, m, f));
   t.stack = build_stack_tables(m.stack, sc.eems, rt.light_shape, fluo);
   return t;
 }
