@@ -9,7 +9,6 @@
 #include "renderer/core/progress.h"
 #include "renderer/diagnose/camera/camera_model.h"
 #include "renderer/diagnose/spectra/cross_subject.h"
-#include "renderer/diagnose/spectra/unknown_band.h"
 #include "renderer/diagnose/report/diagnose_report.h"
 #include "renderer/diagnose/spectra/forward_model.h"
 
@@ -125,12 +124,12 @@ DiagnoseOutcome run_diagnose_job(const DiagnoseJob& job) {
   if (!job.tissue_per.empty()) m.spectra.tissue_per = job.tissue_per;
 
   std::unique_ptr<DiagnoseProblem> problem;
-  const SpectraProblem* spectra = nullptr;  // the same problem when it is spectra (the extras below)
   ReportContext ctx;
   ctx.job = job.to_json();
   ctx.input = job.input;
   ctx.model_file = job.model;
   std::unique_ptr<SpectraProblem> target;  // --fit-on: the spectra to predict
+  const SpectraProblem* fitted = nullptr;  // --fit-on: `problem`, the spectra the causes are fitted on
   if (!job.fit_on.empty() && kind != InputKind::kSpectra)
     throw InputError("command line", "--fit-on", "fitting on some rows and predicting others is for spectra");
   if (!job.predict.empty() && job.fit_on.empty()) throw InputError("command line", "--predict", "needs --fit-on");
@@ -149,7 +148,7 @@ DiagnoseOutcome run_diagnose_job(const DiagnoseJob& job) {
                          {"shared_concentrations", m.spectra.shared_by},
                          {"tissue_per", m.spectra.tissue_per}};
     std::unique_ptr<SpectraProblem> sp = spectra_problem(std::move(data), std::move(m.spectra), job.model);
-    spectra = sp.get();
+    if (target) fitted = sp.get();
     problem = std::move(sp);
   } else {
     CameraPatchSet data = read_camera_patches(job.input, select);
@@ -167,21 +166,18 @@ DiagnoseOutcome run_diagnose_job(const DiagnoseJob& job) {
   if (!job.outdir.empty()) out.files = write_diagnosis_files(*problem, d, ctx, job.outdir);
   out.report = diagnosis_json(*problem, d, ctx);
   out.text = diagnosis_text(*problem, d, ctx);
-  if (spectra) {
-    UnknownBandReport ub = unknown_band_report(*spectra, d);
-    if (ub.estimate.found) {
-      out.report["unknown_band_estimate"] = unknown_band_json(ub);
-      out.text += unknown_band_text(ub);
-      if (!job.outdir.empty()) {
-        auto stem = std::filesystem::path(job.outdir) / "unknown_band";
-        unknown_band_plot(ub).write_svg_and_png(stem);
-        out.files.push_back(stem.string() + ".svg");
-        out.files.push_back(stem.string() + ".png");
-      }
+  for (ReportSection& s : problem->report_sections(d)) {
+    out.report[s.key] = std::move(s.json);
+    out.text += s.text;
+    if (s.figure && !job.outdir.empty()) {
+      auto stem = std::filesystem::path(job.outdir) / s.figure_name;
+      s.figure->write_svg_and_png(stem);
+      out.files.push_back(stem.string() + ".svg");
+      out.files.push_back(stem.string() + ".png");
     }
   }
-  if (target && spectra) {
-    CrossSubjectPrediction c = predict_other_subjects(*spectra, d, *target);
+  if (target) {
+    CrossSubjectPrediction c = predict_other_subjects(*fitted, d, *target);
     c.fit_on = job.fit_on;
     c.predict = job.predict.empty() ? "every other row" : job.predict;
     out.report["prediction"] = prediction_json(c);

@@ -11,12 +11,18 @@
 #pragma once
 #include <limits>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include <Eigen/Dense>
+#include <nlohmann/json.hpp>
+
+#include "renderer/plot/vector_plot.h"
 
 namespace ofl {
+
+struct Diagnosis;  // the outcome of cause selection (selection/cross_validation.h, a room above this one)
 
 struct ParamSpec {
   std::string name;         // JSON key, e.g. "delta_nm"
@@ -81,6 +87,18 @@ struct ItemFit {
   std::map<std::string, double> locals;
 };
 
+// A part of the report that one kind of problem adds after the report every problem has (spectra:
+// the unknown-band finder's estimate). The job puts `json` under `key` in the JSON report, appends
+// `text` to the text summary and, when it writes files, draws `figure` as <figure_name>.svg and
+// <figure_name>.png in the output folder; sections come in the order the problem gives them.
+struct ReportSection {
+  std::string key;                   // e.g. "unknown_band_estimate"
+  nlohmann::json json;
+  std::string text;                  // appended as it is ("" adds nothing)
+  std::string figure_name;           // file name without extension, e.g. "unknown_band"
+  std::optional<VectorPlot> figure;  // none: no figure files
+};
+
 // A reported quantity of a cause that is derived from the local fits rather than being a global
 // parameter (e.g. the mean share of an extra fluorophore).
 struct DerivedParam {
@@ -123,6 +141,10 @@ class DiagnoseProblem {
   virtual std::string plain_words(const CandidateSpec& c, const std::vector<double>& theta,
                                   const std::vector<double>& theta_uncertainty,
                                   const std::vector<DerivedParam>& derived) const = 0;
+  // The report's sections that only this kind of problem has (ReportSection above), computed
+  // from the finished diagnosis; the job adds each to the JSON report, the text summary and the
+  // files, so it needs to know no kind of problem. Empty by default.
+  virtual std::vector<ReportSection> report_sections(const Diagnosis& d) const { return {}; }
 };
 
 }  // namespace ofl

@@ -86,6 +86,8 @@ class SpectraProblem : public DiagnoseProblem {
   std::string plain_words(const CandidateSpec& c, const std::vector<double>& theta, const std::vector<double>& unc,
                           const std::vector<DerivedParam>& derived) const override;
   void fill_unfitted(ModelState& state, const std::vector<int>& fitted_items) const override;
+  // The unknown-band finder's estimate, when it finds one (defined in unknown_band.cpp).
+  std::vector<ReportSection> report_sections(const Diagnosis& d) const override;
 
   // Per-tissue and per-instrument parameters (model "tissue_per", "instrument_column"): the values
   // of those columns ("" when the model has none), item i's tissue, and the parameters per value

@@ -190,4 +190,18 @@ VectorPlot unknown_band_plot(const UnknownBandReport& r) {
   return line_chart(pl);
 }
 
+// The spectra problem's one section of its own (diagnose_problem.h, ReportSection): the estimate
+// of the unknown band, when there is one, as JSON, text and a figure.
+std::vector<ReportSection> SpectraProblem::report_sections(const Diagnosis& d) const {
+  UnknownBandReport ub = unknown_band_report(*this, d);
+  if (!ub.estimate.found) return {};
+  ReportSection s;
+  s.key = "unknown_band_estimate";
+  s.json = unknown_band_json(ub);
+  s.text = unknown_band_text(ub);
+  s.figure_name = "unknown_band";
+  s.figure = unknown_band_plot(ub);
+  return {std::move(s)};
+}
+
 }  // namespace ofl
