@@ -13,9 +13,9 @@
 
 #include <fstream>
 
-#include "renderer/bench/bench_check.h"
-#include "renderer/bench/closed_form_cases.h"
-#include "renderer/bench/mcml.h"
+#include "renderer/validation/bench_check.h"
+#include "renderer/validation/closed_form_cases.h"
+#include "renderer/validation/mcml.h"
 #include "renderer/core/error.h"
 #include "renderer/core/json_node.h"
 #include "renderer/render/render_job.h"

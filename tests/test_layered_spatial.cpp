@@ -18,7 +18,7 @@
 #include <fstream>
 
 #include "cli_runner.h"
-#include "renderer/bench/bench_check.h"
+#include "renderer/validation/bench_check.h"
 #include "renderer/core/error.h"
 #include "renderer/core/json_node.h"
 #include "renderer/mesh/gltf_writer.h"

@@ -4,9 +4,9 @@
 #include <cmath>
 #include <cstdio>
 
-#include "renderer/bench/bench_check.h"
-#include "renderer/bench/closed_form_cases.h"
-#include "renderer/bench/mcml.h"
+#include "renderer/validation/bench_check.h"
+#include "renderer/validation/closed_form_cases.h"
+#include "renderer/validation/mcml.h"
 #include "renderer/cli/commands.h"
 #include "renderer/core/error.h"
 

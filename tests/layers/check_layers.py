@@ -17,7 +17,7 @@ import sys
 
 # Lowest first. A layer may include itself and the layers before it.
 LAYERS = ["core", "numerics", "formats", "spectral", "image", "plot", "mesh", "materials", "scene", "camera", "render",
-          "analysis", "interop", "view", "bench", "sweep", "diagnose", "cli"]
+          "analysis", "interop", "view", "validation", "sweep", "diagnose", "cli"]
 KNOWN_LOOPS = set()
 INCLUDE = re.compile(r'^\s*#\s*include\s+"((?:renderer|materials)/[^"]+)"', re.M)
 

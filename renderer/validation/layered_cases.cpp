@@ -21,11 +21,11 @@
 
 #include <glm/geometric.hpp>
 
-#include "renderer/bench/bench_check.h"
-#include "renderer/bench/bench_support.h"
-#include "renderer/bench/closed_form_cases.h"
-#include "renderer/bench/mcml.h"
-#include "renderer/bench/spatial_cases.h"
+#include "renderer/validation/bench_check.h"
+#include "renderer/validation/bench_support.h"
+#include "renderer/validation/closed_form_cases.h"
+#include "renderer/validation/mcml.h"
+#include "renderer/validation/spatial_cases.h"
 #include "renderer/core/error.h"
 #include "renderer/core/json_node.h"
 #include "renderer/render/integrator/layered_bsdf.h"

@@ -13,7 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "materials/layered.h"
-#include "renderer/bench/bench_check.h"
+#include "renderer/validation/bench_check.h"
 
 namespace ofl {
 
@@ -73,7 +73,7 @@ std::vector<BenchCheck> compare_with_mcml(const SlabResult& ours, const McmlOutp
 // A bench result for a slab: the checks when MCML's output is given, the numbers in `extra`.
 CheckCaseResult mcml_case(const McmlInput& in, const McmlOutput* ref, long long photons, uint64_t seed);
 
-// Lateral transport (renderer/bench/mcml_radial.cpp): the slab's lateral profiles filled as the
+// Lateral transport (renderer/validation/mcml_radial.cpp): the slab's lateral profiles filled as the
 // renderer's spatial transport fills them (renderer/render/spatial/stack_profiles.h), at normal
 // incidence, in 8 independent batches; the diffuse reflectance within each of `radii_mm` with its
 // standard error, and the radii holding 50 % and 90 % of all of it.

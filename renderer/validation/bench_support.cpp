@@ -1,4 +1,4 @@
-#include "renderer/bench/bench_support.h"
+#include "renderer/validation/bench_support.h"
 
 #include <algorithm>
 #include <chrono>

@@ -1,4 +1,4 @@
-#include "renderer/bench/mcml.h"
+#include "renderer/validation/mcml.h"
 
 #include <tbb/parallel_for.h>
 

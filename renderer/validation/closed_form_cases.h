@@ -11,7 +11,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "renderer/bench/bench_result.h"
+#include "renderer/validation/bench_result.h"
 #include "renderer/scene/scene.h"
 
 namespace ofl {

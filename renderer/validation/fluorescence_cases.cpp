@@ -8,8 +8,8 @@
 #include <Eigen/Dense>
 #include <glm/geometric.hpp>
 
-#include "renderer/bench/bench_support.h"
-#include "renderer/bench/closed_form_cases.h"
+#include "renderer/validation/bench_support.h"
+#include "renderer/validation/closed_form_cases.h"
 #include "renderer/spectral/units.h"
 
 namespace ofl {
