@@ -21,7 +21,7 @@
 #include "renderer/validation/bench_check.h"
 #include "renderer/core/error.h"
 #include "renderer/core/json_node.h"
-#include "renderer/mesh/gltf_writer.h"
+#include "renderer/mesh/files/gltf_writer.h"
 #include "renderer/render/integrator/spatial_vertex.h"
 #include "renderer/render/render_job.h"
 #include "renderer/render/spatial/stack_profiles.h"

@@ -12,8 +12,8 @@
 #include "renderer/core/error.h"
 #include "renderer/core/json_node.h"
 #include "renderer/scene/led_light.h"
-#include "renderer/mesh/gltf_reader.h"
-#include "renderer/mesh/mesh_measure.h"
+#include "renderer/mesh/files/gltf_reader.h"
+#include "renderer/mesh/geometry/mesh_measure.h"
 #include "renderer/spectral/units.h"
 
 using namespace ofl;

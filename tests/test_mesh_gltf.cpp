@@ -8,10 +8,10 @@
 
 #include "renderer/core/asset_path.h"
 #include "renderer/core/error.h"
-#include "renderer/mesh/gltf_reader.h"
-#include "renderer/mesh/gltf_writer.h"
-#include "renderer/mesh/mesh_convert.h"
-#include "renderer/mesh/mesh_measure.h"
+#include "renderer/mesh/files/gltf_reader.h"
+#include "renderer/mesh/files/gltf_writer.h"
+#include "renderer/mesh/files/mesh_convert.h"
+#include "renderer/mesh/geometry/mesh_measure.h"
 
 using namespace ofl;
 

@@ -9,11 +9,11 @@
 #include <set>
 
 #include "renderer/core/error.h"
-#include "renderer/mesh/gltf_reader.h"
-#include "renderer/mesh/gltf_writer.h"
-#include "renderer/mesh/mesh_measure.h"
-#include "renderer/mesh/mouth_generator.h"
-#include "renderer/mesh/procedural_tongue.h"
+#include "renderer/mesh/files/gltf_reader.h"
+#include "renderer/mesh/files/gltf_writer.h"
+#include "renderer/mesh/geometry/mesh_measure.h"
+#include "renderer/mesh/mouth/mouth_generator.h"
+#include "renderer/mesh/mouth/procedural_tongue.h"
 
 using namespace ofl;
 

@@ -10,8 +10,8 @@
 #include <sys/wait.h>
 
 #include "renderer/core/error.h"
-#include "renderer/mesh/mesh_measure.h"
-#include "renderer/mesh/obj_reader.h"
+#include "renderer/mesh/geometry/mesh_measure.h"
+#include "renderer/mesh/files/obj_reader.h"
 
 using namespace ofl;
 

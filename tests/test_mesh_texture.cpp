@@ -9,8 +9,8 @@
 #include <cmath>
 #include <filesystem>
 
-#include "renderer/mesh/procedural_tongue.h"
-#include "renderer/mesh/tongue_maps.h"
+#include "renderer/mesh/mouth/procedural_tongue.h"
+#include "renderer/mesh/mouth/tongue_maps.h"
 
 using namespace ofl;
 

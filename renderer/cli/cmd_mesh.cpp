@@ -12,12 +12,12 @@
 #include "renderer/cli/commands.h"
 #include "renderer/core/error.h"
 #include "renderer/image/png_writer.h"
-#include "renderer/mesh/gltf_reader.h"
-#include "renderer/mesh/gltf_writer.h"
-#include "renderer/mesh/mesh_convert.h"
-#include "renderer/mesh/mesh_measure.h"
+#include "renderer/mesh/files/gltf_reader.h"
+#include "renderer/mesh/files/gltf_writer.h"
+#include "renderer/mesh/files/mesh_convert.h"
+#include "renderer/mesh/geometry/mesh_measure.h"
 #include "renderer/mesh/mesh_preview.h"
-#include "renderer/mesh/obj_reader.h"
+#include "renderer/mesh/files/obj_reader.h"
 
 namespace ofl {
 namespace {

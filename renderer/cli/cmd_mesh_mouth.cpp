@@ -9,10 +9,10 @@
 #include "renderer/cli/cmd_mesh_parts.h"
 #include "renderer/cli/commands.h"
 #include "renderer/core/error.h"
-#include "renderer/mesh/gltf_writer.h"
-#include "renderer/mesh/mesh_measure.h"
-#include "renderer/mesh/mouth_generator.h"
-#include "renderer/mesh/mouth_params.h"
+#include "renderer/mesh/files/gltf_writer.h"
+#include "renderer/mesh/geometry/mesh_measure.h"
+#include "renderer/mesh/mouth/mouth_generator.h"
+#include "renderer/mesh/mouth/mouth_params.h"
 
 namespace ofl {
 

@@ -1,5 +1,5 @@
 // `oralfluor mesh texture`: porphyrin and lesion maps in the tongue's UV space (see
-// renderer/mesh/tongue_maps.h), from a tongue mesh (.glb/.gltf/.obj; the meshes whose material
+// renderer/mesh/mouth/tongue_maps.h), from a tongue mesh (.glb/.gltf/.obj; the meshes whose material
 // is "tongue", or all of them when none is).
 #include <cstdio>
 #include <memory>
@@ -7,9 +7,9 @@
 #include "renderer/cli/cmd_mesh_parts.h"
 #include "renderer/cli/commands.h"
 #include "renderer/core/error.h"
-#include "renderer/mesh/gltf_reader.h"
-#include "renderer/mesh/obj_reader.h"
-#include "renderer/mesh/tongue_maps.h"
+#include "renderer/mesh/files/gltf_reader.h"
+#include "renderer/mesh/files/obj_reader.h"
+#include "renderer/mesh/mouth/tongue_maps.h"
 
 namespace ofl {
 

@@ -9,8 +9,8 @@
 
 #include "renderer/core/error.h"
 #include "renderer/image/image_file.h"
-#include "renderer/mesh/gltf_writer.h"
-#include "renderer/mesh/raster_triangle.h"
+#include "renderer/mesh/files/gltf_writer.h"
+#include "renderer/mesh/geometry/raster_triangle.h"
 
 namespace ofl {
 

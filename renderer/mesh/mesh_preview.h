@@ -10,7 +10,7 @@
 
 #include <glm/vec3.hpp>
 
-#include "renderer/mesh/triangle_mesh.h"
+#include "renderer/mesh/geometry/triangle_mesh.h"
 
 namespace ofl {
 

@@ -15,7 +15,7 @@
 #include "renderer/scene/camera_spec.h"
 #include "renderer/scene/led_light.h"
 #include "renderer/image/texture.h"
-#include "renderer/mesh/triangle_mesh.h"
+#include "renderer/mesh/geometry/triangle_mesh.h"
 #include "renderer/spectral/eem.h"
 #include "renderer/spectral/wavelength_grid.h"
 

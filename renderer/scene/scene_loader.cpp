@@ -9,7 +9,7 @@
 #include "materials/material_parser.h"
 #include "renderer/core/error.h"
 #include "renderer/core/memory_limit.h"
-#include "renderer/mesh/gltf_reader.h"
+#include "renderer/mesh/files/gltf_reader.h"
 #include "renderer/scene/scene.h"
 #include "renderer/scene/scene_transform.h"
 

@@ -1,9 +1,9 @@
-#include "renderer/mesh/procedural_tongue.h"
+#include "renderer/mesh/mouth/procedural_tongue.h"
 
 #include <algorithm>
 #include <cmath>
 
-#include "renderer/mesh/mesh_measure.h"
+#include "renderer/mesh/geometry/mesh_measure.h"
 
 namespace ofl {
 namespace {

@@ -1,4 +1,4 @@
-#include "renderer/mesh/obj_reader.h"
+#include "renderer/mesh/files/obj_reader.h"
 
 #include <charconv>
 #include <cmath>

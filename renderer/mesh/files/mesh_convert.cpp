@@ -1,11 +1,11 @@
-#include "renderer/mesh/mesh_convert.h"
+#include "renderer/mesh/files/mesh_convert.h"
 
 #include <algorithm>
 #include <cmath>
 
 #include "renderer/core/error.h"
-#include "renderer/mesh/mesh_measure.h"
-#include "renderer/mesh/obj_reader.h"
+#include "renderer/mesh/geometry/mesh_measure.h"
+#include "renderer/mesh/files/obj_reader.h"
 
 namespace ofl {
 

@@ -1,4 +1,4 @@
-#include "renderer/mesh/tongue_maps.h"
+#include "renderer/mesh/mouth/tongue_maps.h"
 
 #include <algorithm>
 #include <cmath>
@@ -8,8 +8,8 @@
 
 #include "renderer/core/error.h"
 #include "renderer/image/image_file.h"
-#include "renderer/mesh/mesh_measure.h"
-#include "renderer/mesh/raster_triangle.h"
+#include "renderer/mesh/geometry/mesh_measure.h"
+#include "renderer/mesh/geometry/raster_triangle.h"
 
 namespace ofl {
 namespace {

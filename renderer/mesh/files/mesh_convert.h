@@ -12,7 +12,7 @@
 
 #include <glm/mat3x3.hpp>
 
-#include "renderer/mesh/gltf_writer.h"
+#include "renderer/mesh/files/gltf_writer.h"
 
 namespace ofl {
 

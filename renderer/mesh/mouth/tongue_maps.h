@@ -16,7 +16,7 @@
 #include <glm/vec2.hpp>
 #include <nlohmann/json.hpp>
 
-#include "renderer/mesh/triangle_mesh.h"
+#include "renderer/mesh/geometry/triangle_mesh.h"
 
 namespace ofl {
 

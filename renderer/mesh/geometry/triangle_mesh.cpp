@@ -1,4 +1,4 @@
-#include "renderer/mesh/triangle_mesh.h"
+#include "renderer/mesh/geometry/triangle_mesh.h"
 
 #include <cmath>
 #include <map>

@@ -19,9 +19,9 @@
 #pragma once
 #include <vector>
 
-#include "renderer/mesh/gltf_writer.h"
-#include "renderer/mesh/mouth_params.h"
-#include "renderer/mesh/triangle_mesh.h"
+#include "renderer/mesh/files/gltf_writer.h"
+#include "renderer/mesh/mouth/mouth_params.h"
+#include "renderer/mesh/geometry/triangle_mesh.h"
 
 namespace ofl {
 

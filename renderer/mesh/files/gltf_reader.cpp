@@ -1,4 +1,4 @@
-#include "renderer/mesh/gltf_reader.h"
+#include "renderer/mesh/files/gltf_reader.h"
 
 #include <cmath>
 #include <cstring>

@@ -8,8 +8,8 @@
 // UVs: u goes round the tongue (0 and 1 on the underside midline, 0.5 on the dorsal midline),
 // v runs from the tip (0) to the back (1).
 #pragma once
-#include "renderer/mesh/mouth_params.h"
-#include "renderer/mesh/triangle_mesh.h"
+#include "renderer/mesh/mouth/mouth_params.h"
+#include "renderer/mesh/geometry/triangle_mesh.h"
 
 namespace ofl {
 

@@ -1,4 +1,4 @@
-#include "renderer/mesh/gltf_writer.h"
+#include "renderer/mesh/files/gltf_writer.h"
 
 #include <cstring>
 #include <map>
@@ -9,7 +9,7 @@
 
 #include "renderer/core/atomic_file.h"
 #include "renderer/core/error.h"
-#include "renderer/mesh/mesh_measure.h"
+#include "renderer/mesh/geometry/mesh_measure.h"
 
 namespace ofl {
 namespace {

@@ -1,4 +1,4 @@
-#include "renderer/mesh/mouth_params.h"
+#include "renderer/mesh/mouth/mouth_params.h"
 
 #include <algorithm>
 

@@ -9,8 +9,8 @@
 #include <glm/mat4x4.hpp>
 #include <nlohmann/json.hpp>
 
-#include "renderer/mesh/gltf_writer.h"
-#include "renderer/mesh/triangle_mesh.h"
+#include "renderer/mesh/files/gltf_writer.h"
+#include "renderer/mesh/geometry/triangle_mesh.h"
 
 namespace ofl {
 

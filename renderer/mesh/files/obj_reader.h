@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "renderer/mesh/triangle_mesh.h"
+#include "renderer/mesh/geometry/triangle_mesh.h"
 
 namespace ofl {
 

@@ -1,4 +1,4 @@
-#include "renderer/mesh/mesh_measure.h"
+#include "renderer/mesh/geometry/mesh_measure.h"
 
 #include <algorithm>
 #include <map>

@@ -1,12 +1,12 @@
-#include "renderer/mesh/mouth_generator.h"
+#include "renderer/mesh/mouth/mouth_generator.h"
 
 #include <algorithm>
 #include <cmath>
 
 #include <glm/geometric.hpp>
 
-#include "renderer/mesh/mesh_measure.h"
-#include "renderer/mesh/procedural_tongue.h"
+#include "renderer/mesh/geometry/mesh_measure.h"
+#include "renderer/mesh/mouth/procedural_tongue.h"
 
 namespace ofl {
 namespace {

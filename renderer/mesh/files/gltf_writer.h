@@ -11,7 +11,7 @@
 #include <glm/vec3.hpp>
 #include <nlohmann/json.hpp>
 
-#include "renderer/mesh/triangle_mesh.h"
+#include "renderer/mesh/geometry/triangle_mesh.h"
 
 namespace ofl {
 
