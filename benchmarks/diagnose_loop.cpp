@@ -35,9 +35,9 @@
 
 #include <nlohmann/json.hpp>
 
-#include "renderer/core/asset_path.h"
-#include "renderer/core/atomic_file.h"
-#include "renderer/core/error.h"
+#include "renderer/core/files/asset_path.h"
+#include "renderer/core/files/atomic_file.h"
+#include "renderer/core/errors/error.h"
 #include "renderer/diagnose/selection/cross_validation.h"
 #include "renderer/diagnose/diagnose_model.h"
 #include "renderer/diagnose/spectra/render_loop.h"

@@ -8,8 +8,8 @@
 #include <sstream>
 #include <string>
 
-#include "renderer/core/atomic_file.h"
-#include "renderer/core/error.h"
+#include "renderer/core/files/atomic_file.h"
+#include "renderer/core/errors/error.h"
 #include "tests/support/synthetic.h"
 
 using namespace ofl;

@@ -10,7 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "renderer/validation/mcml.h"
-#include "renderer/core/json_node.h"
+#include "renderer/core/files/json_node.h"
 #include "renderer/render/integrator/render_tables.h"
 
 using namespace ofl;

@@ -17,7 +17,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "renderer/core/json_node.h"
+#include "renderer/core/files/json_node.h"
 #include "renderer/render/integrator/layered_bsdf.h"
 #include "renderer/render/render_job.h"
 #include "renderer/render/stack/stack_response.h"

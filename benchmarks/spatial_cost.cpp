@@ -25,7 +25,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "renderer/core/json_node.h"
+#include "renderer/core/files/json_node.h"
 #include "renderer/render/render_job.h"
 
 using namespace ofl;

@@ -9,7 +9,7 @@
 #include <algorithm>
 
 #include "materials/material_parser.h"
-#include "renderer/core/error.h"
+#include "renderer/core/errors/error.h"
 #include "renderer/spectral/fluorophore_library.h"
 
 namespace ofl {

@@ -38,8 +38,8 @@
 #include <sstream>
 
 #include "materials/material_parser.h"
-#include "renderer/core/asset_path.h"
-#include "renderer/core/error.h"
+#include "renderer/core/files/asset_path.h"
+#include "renderer/core/errors/error.h"
 #include "renderer/spectral/hemoglobin.h"
 #include "renderer/spectral/spectrum_json.h"
 

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <sstream>
 
-#include "renderer/core/error.h"
+#include "renderer/core/errors/error.h"
 
 namespace ofl {
 

@@ -17,7 +17,7 @@
 #include <vector>
 
 #include "materials/material.h"
-#include "renderer/core/json_node.h"
+#include "renderer/core/files/json_node.h"
 #include "renderer/image/texture.h"
 #include "renderer/spectral/eem.h"
 

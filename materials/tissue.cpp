@@ -36,8 +36,8 @@
 #include "materials/material_parser.h"
 #include "materials/diagnosis_corrections.h"
 #include "renderer/spectral/hemoglobin.h"
-#include "renderer/core/asset_path.h"
-#include "renderer/core/error.h"
+#include "renderer/core/files/asset_path.h"
+#include "renderer/core/errors/error.h"
 
 namespace ofl {
 

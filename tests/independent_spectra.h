@@ -18,7 +18,7 @@
 #include <string>
 #include <vector>
 
-#include "renderer/core/asset_path.h"
+#include "renderer/core/files/asset_path.h"
 #include "renderer/diagnose/spectra/forward_model.h"
 #include "tests/support/synthetic.h"
 #include "renderer/spectral/eem.h"

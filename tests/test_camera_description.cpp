@@ -6,8 +6,8 @@
 
 #include "camera_test_util.h"
 #include "renderer/camera/camera_pipeline.h"
-#include "renderer/core/csv.h"
-#include "renderer/core/error.h"
+#include "renderer/core/files/csv.h"
+#include "renderer/core/errors/error.h"
 
 using namespace ofl;
 using namespace ofl::testing;

@@ -13,7 +13,7 @@
 #include "camera_test_util.h"
 #include "renderer/camera/camera_pipeline.h"
 #include "renderer/camera/optics/optics.h"
-#include "renderer/core/error.h"
+#include "renderer/core/errors/error.h"
 #include "renderer/image/spectral_exr.h"
 
 using namespace ofl;

@@ -16,7 +16,7 @@
 #include "camera_test_util.h"
 #include "renderer/camera/description/camera_description.h"
 #include "renderer/camera/optics/optics.h"
-#include "renderer/core/json_node.h"
+#include "renderer/core/files/json_node.h"
 #include "renderer/render/render_job.h"
 #include "renderer/scene/scene.h"
 

@@ -5,7 +5,7 @@
 #include <cmath>
 
 #include "materials/coated.h"
-#include "renderer/core/json_node.h"
+#include "renderer/core/files/json_node.h"
 #include "renderer/render/render_job.h"
 #include "renderer/render/trace/rng.h"
 #include "renderer/render/trace/sampling.h"

@@ -11,8 +11,8 @@
 #include <fstream>
 #include <sstream>
 
-#include "renderer/core/asset_path.h"
-#include "renderer/core/error.h"
+#include "renderer/core/files/asset_path.h"
+#include "renderer/core/errors/error.h"
 #include "renderer/diagnose/diagnose_model.h"
 #include "renderer/diagnose/problem/measurement_set.h"
 

@@ -7,7 +7,7 @@
 
 #include "materials/material_parser.h"
 #include "renderer/validation/closed_form_cases.h"
-#include "renderer/core/error.h"
+#include "renderer/core/errors/error.h"
 #include "renderer/render/integrator/render_tables.h"
 #include "renderer/render/material/albedo_matrix.h"
 #include "renderer/scene/scene.h"

@@ -19,8 +19,8 @@
 
 #include "cli_runner.h"
 #include "renderer/validation/bench_check.h"
-#include "renderer/core/error.h"
-#include "renderer/core/json_node.h"
+#include "renderer/core/errors/error.h"
+#include "renderer/core/files/json_node.h"
 #include "renderer/mesh/files/gltf_writer.h"
 #include "renderer/render/integrator/spatial_vertex.h"
 #include "renderer/render/render_job.h"

@@ -9,8 +9,8 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
-#include "renderer/core/error.h"
-#include "renderer/core/json_node.h"
+#include "renderer/core/errors/error.h"
+#include "renderer/core/files/json_node.h"
 #include "renderer/scene/led_light.h"
 #include "renderer/mesh/files/gltf_reader.h"
 #include "renderer/mesh/geometry/mesh_measure.h"

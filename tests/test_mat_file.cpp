@@ -12,7 +12,7 @@
 #include <unistd.h>
 
 #include "renderer/camera/description/camera_description.h"
-#include "renderer/core/error.h"
+#include "renderer/core/errors/error.h"
 #include "renderer/formats/mat_file.h"
 #include "renderer/formats/mat_spectrum.h"
 #include "renderer/spectral/spectrum.h"

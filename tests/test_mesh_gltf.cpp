@@ -6,8 +6,8 @@
 #include <filesystem>
 #include <fstream>
 
-#include "renderer/core/asset_path.h"
-#include "renderer/core/error.h"
+#include "renderer/core/files/asset_path.h"
+#include "renderer/core/errors/error.h"
 #include "renderer/mesh/files/gltf_reader.h"
 #include "renderer/mesh/files/gltf_writer.h"
 #include "renderer/mesh/files/mesh_convert.h"

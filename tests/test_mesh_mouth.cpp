@@ -8,7 +8,7 @@
 #include <map>
 #include <set>
 
-#include "renderer/core/error.h"
+#include "renderer/core/errors/error.h"
 #include "renderer/mesh/files/gltf_reader.h"
 #include "renderer/mesh/files/gltf_writer.h"
 #include "renderer/mesh/geometry/mesh_measure.h"

@@ -9,7 +9,7 @@
 
 #include <sys/wait.h>
 
-#include "renderer/core/error.h"
+#include "renderer/core/errors/error.h"
 #include "renderer/mesh/geometry/mesh_measure.h"
 #include "renderer/mesh/files/obj_reader.h"
 

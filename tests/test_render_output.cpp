@@ -14,8 +14,8 @@
 #include <filesystem>
 #include <fstream>
 
-#include "renderer/core/error.h"
-#include "renderer/core/json_node.h"
+#include "renderer/core/errors/error.h"
+#include "renderer/core/files/json_node.h"
 #include "renderer/image/spectral_exr.h"
 #include "renderer/render/render_job.h"
 

@@ -6,7 +6,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "renderer/core/error.h"
+#include "renderer/core/errors/error.h"
 #include "renderer/scene/scene.h"
 #include "tests/cli_runner.h"
 

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <fstream>
 
-#include "renderer/core/error.h"
+#include "renderer/core/errors/error.h"
 #include "renderer/spectral/spectrum.h"
 #include "renderer/spectral/units.h"
 

@@ -15,7 +15,7 @@
 
 #include "cli_runner.h"
 
-#include "renderer/core/file_dependencies.h"
+#include "renderer/core/files/file_dependencies.h"
 #include "renderer/scene/scene.h"
 #include "renderer/sweep/design/sweep_design.h"
 #include "renderer/sweep/design/sweep_spec.h"

@@ -6,7 +6,7 @@
 #include <cmath>
 #include <set>
 
-#include "renderer/core/error.h"
+#include "renderer/core/errors/error.h"
 #include "renderer/sweep/design/sweep_design.h"
 #include "renderer/sweep/design/sweep_spec.h"
 

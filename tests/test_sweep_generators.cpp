@@ -7,7 +7,7 @@
 
 #include <glm/geometric.hpp>
 
-#include "renderer/core/error.h"
+#include "renderer/core/errors/error.h"
 #include "renderer/scene/scene.h"
 #include "renderer/sweep/design/rig_generators.h"
 #include "renderer/sweep/design/sweep_design.h"

@@ -14,7 +14,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "renderer/core/error.h"
+#include "renderer/core/errors/error.h"
 #include "renderer/sweep/design/sweep_design.h"
 #include "renderer/sweep/design/sweep_spec.h"
 #include "renderer/sweep/sweep_point.h"

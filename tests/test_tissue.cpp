@@ -3,8 +3,8 @@
 // returns, lies in the range measured on volunteers (oe_tongue_lip; SCIEN teeth data).
 #include <gtest/gtest.h>
 
-#include "renderer/core/error.h"
-#include "renderer/core/json_node.h"
+#include "renderer/core/errors/error.h"
+#include "renderer/core/files/json_node.h"
 #include "renderer/render/render_job.h"
 #include "renderer/spectral/hemoglobin.h"
 #include "renderer/spectral/units.h"

@@ -7,7 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "renderer/core/json_node.h"
+#include "renderer/core/files/json_node.h"
 #include "renderer/render/render_job.h"
 #include "renderer/spectral/units.h"
 

@@ -6,7 +6,7 @@
 #include "renderer/analysis/chroma_reference.h"
 #include "renderer/analysis/chromaticity.h"
 #include "renderer/analysis/fluorescence_chart.h"
-#include "renderer/core/error.h"
+#include "renderer/core/errors/error.h"
 #include "renderer/spectral/fluorophore_library.h"
 #include "renderer/spectral/units.h"
 

@@ -3,8 +3,8 @@
 // raw mosaic equals the CLI's raw.tiff for the same image, camera and seed.
 #include "python/src/common.h"
 #include "renderer/camera/camera_pipeline.h"
-#include "renderer/core/error.h"
-#include "renderer/core/json_node.h"
+#include "renderer/core/errors/error.h"
+#include "renderer/core/files/json_node.h"
 #include "renderer/image/spectral_exr.h"
 
 namespace ofl::python {

@@ -4,7 +4,7 @@
 #include <cmath>
 
 #include "python/src/common.h"
-#include "renderer/core/error.h"
+#include "renderer/core/errors/error.h"
 #include "renderer/image/spectral_exr.h"
 
 namespace ofl::python {

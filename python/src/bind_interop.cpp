@@ -7,7 +7,7 @@
 #include <future>
 
 #include "python/src/common.h"
-#include "renderer/core/error.h"
+#include "renderer/core/errors/error.h"
 #include "renderer/diagnose/diagnose_job.h"
 #include "renderer/interop/iset_oi.h"
 #include "renderer/interop/iset_scene.h"

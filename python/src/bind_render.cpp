@@ -2,8 +2,8 @@
 // that takes the GIL back, and Ctrl-C ending the render after the current pass (what finished is
 // returned, flagged as interrupted), as the CLI does.
 #include "python/src/common.h"
-#include "renderer/core/error.h"
-#include "renderer/core/json_node.h"
+#include "renderer/core/errors/error.h"
+#include "renderer/core/files/json_node.h"
 #include "renderer/render/render_job.h"
 
 namespace ofl::python {

@@ -8,7 +8,7 @@
 #include <sstream>
 
 #include "python/src/common.h"
-#include "renderer/core/error.h"
+#include "renderer/core/errors/error.h"
 
 namespace ofl::python {
 

@@ -4,7 +4,7 @@
 #include <cstdio>
 #include <limits>
 
-#include "renderer/core/error.h"
+#include "renderer/core/errors/error.h"
 
 namespace ofl {
 

@@ -5,7 +5,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "renderer/core/asset_path.h"
+#include "renderer/core/files/asset_path.h"
 #include "renderer/spectral/fluorophore_library.h"
 #include "renderer/spectral/units.h"
 

@@ -6,8 +6,8 @@
 
 #include "renderer/camera/optics/optics.h"
 #include "renderer/camera/raw/camera_color.h"
-#include "renderer/core/error.h"
-#include "renderer/core/progress.h"
+#include "renderer/core/errors/error.h"
+#include "renderer/core/process/progress.h"
 #include "renderer/image/image_file.h"
 #include "renderer/spectral/band_coverage.h"
 #include "renderer/spectral/units.h"

@@ -8,7 +8,7 @@
 #include "renderer/validation/closed_form_cases.h"
 #include "renderer/validation/mcml.h"
 #include "renderer/cli/commands.h"
-#include "renderer/core/error.h"
+#include "renderer/core/errors/error.h"
 
 namespace ofl {
 

@@ -10,8 +10,8 @@
 
 #include "renderer/camera/camera_pipeline.h"
 #include "renderer/cli/commands.h"
-#include "renderer/core/error.h"
-#include "renderer/core/progress.h"
+#include "renderer/core/errors/error.h"
+#include "renderer/core/process/progress.h"
 #include "renderer/image/spectral_exr.h"
 
 namespace ofl {

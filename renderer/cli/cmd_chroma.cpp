@@ -6,7 +6,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "renderer/core/atomic_file.h"
+#include "renderer/core/files/atomic_file.h"
 #include "renderer/analysis/chroma_plot.h"
 #include "renderer/analysis/chroma_reference.h"
 #include "renderer/analysis/chromaticity.h"
@@ -16,8 +16,8 @@
 #include "renderer/camera/raw/raw_writer.h"
 #include "renderer/camera/optics/optics.h"
 #include "renderer/cli/commands.h"
-#include "renderer/core/asset_path.h"
-#include "renderer/core/error.h"
+#include "renderer/core/files/asset_path.h"
+#include "renderer/core/errors/error.h"
 #include "renderer/image/spectral_exr.h"
 #include "renderer/spectral/fluorophore_library.h"
 #include "renderer/spectral/spectrum_json.h"

@@ -5,7 +5,7 @@
 #include <memory>
 
 #include "renderer/cli/commands.h"
-#include "renderer/core/error.h"
+#include "renderer/core/errors/error.h"
 #include "renderer/diagnose/diagnose_job.h"
 
 namespace ofl {

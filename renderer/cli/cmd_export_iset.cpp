@@ -9,7 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "renderer/cli/commands.h"
-#include "renderer/core/error.h"
+#include "renderer/core/errors/error.h"
 #include "renderer/image/spectral_exr.h"
 #include "renderer/camera/description/camera_description.h"
 #include "renderer/interop/iset_oi.h"

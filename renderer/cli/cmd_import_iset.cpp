@@ -7,10 +7,10 @@
 
 #include <nlohmann/json.hpp>
 
-#include "renderer/core/atomic_file.h"
+#include "renderer/core/files/atomic_file.h"
 #include "renderer/camera/description/camera_description.h"
 #include "renderer/cli/commands.h"
-#include "renderer/core/error.h"
+#include "renderer/core/errors/error.h"
 #include "renderer/image/spectral_exr.h"
 #include "renderer/interop/iset_scene.h"
 #include "renderer/formats/iset_sensor.h"

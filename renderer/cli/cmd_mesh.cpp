@@ -10,7 +10,7 @@
 
 #include "renderer/cli/cmd_mesh_parts.h"
 #include "renderer/cli/commands.h"
-#include "renderer/core/error.h"
+#include "renderer/core/errors/error.h"
 #include "renderer/image/png_writer.h"
 #include "renderer/mesh/files/gltf_reader.h"
 #include "renderer/mesh/files/gltf_writer.h"

@@ -8,7 +8,7 @@
 
 #include "renderer/cli/cmd_mesh_parts.h"
 #include "renderer/cli/commands.h"
-#include "renderer/core/error.h"
+#include "renderer/core/errors/error.h"
 #include "renderer/mesh/files/gltf_writer.h"
 #include "renderer/mesh/geometry/mesh_measure.h"
 #include "renderer/mesh/mouth/mouth_generator.h"

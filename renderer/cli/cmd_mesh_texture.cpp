@@ -6,7 +6,7 @@
 
 #include "renderer/cli/cmd_mesh_parts.h"
 #include "renderer/cli/commands.h"
-#include "renderer/core/error.h"
+#include "renderer/core/errors/error.h"
 #include "renderer/mesh/files/gltf_reader.h"
 #include "renderer/mesh/files/obj_reader.h"
 #include "renderer/mesh/mouth/tongue_maps.h"

@@ -9,10 +9,10 @@
 
 #include "renderer/camera/raw/camera_color.h"
 #include "renderer/camera/camera_pipeline.h"
-#include "renderer/core/atomic_file.h"
+#include "renderer/core/files/atomic_file.h"
 #include "renderer/cli/commands.h"
-#include "renderer/core/error.h"
-#include "renderer/core/progress.h"
+#include "renderer/core/errors/error.h"
+#include "renderer/core/process/progress.h"
 #include "renderer/image/png_writer.h"
 #include "renderer/image/spectral_exr.h"
 #include "renderer/render/render_job.h"

@@ -7,7 +7,7 @@
 #include <cstdio>
 
 #include "renderer/cli/commands.h"
-#include "renderer/core/error.h"
+#include "renderer/core/errors/error.h"
 #include "renderer/sweep/design/sweep_spec.h"
 #include "renderer/sweep/sweep_runner.h"
 

@@ -4,8 +4,8 @@
 #include <cstdio>
 
 #include "renderer/cli/commands.h"
-#include "renderer/core/atomic_file.h"
-#include "renderer/core/error.h"
+#include "renderer/core/files/atomic_file.h"
+#include "renderer/core/errors/error.h"
 #include "renderer/view/view_image.h"
 #include "renderer/view/view_page.h"
 

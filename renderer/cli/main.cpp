@@ -8,10 +8,10 @@
 #include <thread>
 
 #include "renderer/cli/commands.h"
-#include "renderer/core/error.h"
-#include "renderer/core/message_text.h"
-#include "renderer/core/memory_limit.h"
-#include "renderer/core/progress.h"
+#include "renderer/core/errors/error.h"
+#include "renderer/core/errors/message_text.h"
+#include "renderer/core/process/memory_limit.h"
+#include "renderer/core/process/progress.h"
 #include "renderer/image/spectral_exr.h"
 
 int main(int argc, char** argv) {
@@ -74,7 +74,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "interrupted: %s\n", ofl::one_line(e.what()).c_str());
     return ofl::kExitInterrupted;
   } catch (const std::bad_alloc&) {
-    // Sizes read from inputs are checked before allocation (renderer/core/memory_limit.h); this is
+    // Sizes read from inputs are checked before allocation (renderer/core/process/memory_limit.h); this is
     // what is left: the request did not fit in the memory available at the time.
     std::fprintf(stderr, "error: out of memory: the inputs ask for more memory than is available (limit %s, %s); "
                  "reduce the resolution, bands, samples or mesh size\n",

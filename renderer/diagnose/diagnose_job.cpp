@@ -4,9 +4,9 @@
 #include <memory>
 #include <optional>
 
-#include "renderer/core/error.h"
-#include "renderer/core/atomic_file.h"
-#include "renderer/core/progress.h"
+#include "renderer/core/errors/error.h"
+#include "renderer/core/files/atomic_file.h"
+#include "renderer/core/process/progress.h"
 #include "renderer/diagnose/camera/camera_model.h"
 #include "renderer/diagnose/spectra/cross_subject.h"
 #include "renderer/diagnose/report/diagnose_report.h"

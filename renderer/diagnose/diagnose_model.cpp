@@ -3,8 +3,8 @@
 #include <cmath>
 #include <cstdio>
 
-#include "renderer/core/error.h"
-#include "renderer/core/json_node.h"
+#include "renderer/core/errors/error.h"
+#include "renderer/core/files/json_node.h"
 #include "renderer/spectral/spectrum_json.h"
 
 namespace ofl {

@@ -5,7 +5,7 @@
 #include <cmath>
 #include <sstream>
 
-#include "renderer/core/error.h"
+#include "renderer/core/errors/error.h"
 #include "renderer/formats/mat_file.h"
 
 namespace ofl {

@@ -9,8 +9,8 @@
 #include <memory>
 #include <system_error>
 
-#include "renderer/core/atomic_file.h"
-#include "renderer/core/error.h"
+#include "renderer/core/files/atomic_file.h"
+#include "renderer/core/errors/error.h"
 #include "renderer/formats/mat_prescan.h"
 
 namespace ofl {

@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-#include "renderer/core/error.h"
+#include "renderer/core/errors/error.h"
 #include "renderer/formats/mat_file.h"
 
 namespace ofl {

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "renderer/core/csv.h"
+#include "renderer/core/files/csv.h"
 
 namespace ofl {
 

@@ -4,8 +4,8 @@
 #include <fstream>
 #include <string>
 
-#include "renderer/core/error.h"
-#include "renderer/core/memory_limit.h"
+#include "renderer/core/errors/error.h"
+#include "renderer/core/process/memory_limit.h"
 
 namespace ofl {
 

@@ -4,10 +4,10 @@
 
 #include <cstdio>
 
-#include "renderer/core/atomic_file.h"
-#include "renderer/core/error.h"
-#include "renderer/core/library_stderr.h"
-#include "renderer/core/memory_limit.h"
+#include "renderer/core/files/atomic_file.h"
+#include "renderer/core/errors/error.h"
+#include "renderer/core/process/library_stderr.h"
+#include "renderer/core/process/memory_limit.h"
 #include "renderer/image/exr_header.h"
 
 namespace ofl {
@@ -62,7 +62,7 @@ FloatImage read_image_file(const std::filesystem::path& file) {
   if (!std::filesystem::is_regular_file(file, ec)) throw InputError(file.string(), "", "image file not found");
   check_exr_header(file);  // an EXR's attribute sizes, before OpenEXR trusts them
   // libpng prints "libpng error: ..." itself before OIIO reports the error: kept off stderr, so
-  // the one line the user sees is ours (renderer/core/library_stderr.h).
+  // the one line the user sees is ours (renderer/core/process/library_stderr.h).
   LibraryStderr quiet({"libpng "});
   auto in = OIIO::ImageInput::open(file.string());
   if (!in) throw InputError(file.string(), "", "cannot read image: " + library_error(OIIO::geterror(), quiet.end()));

@@ -25,7 +25,7 @@ struct FloatImage {
 // the memory limit before any pixel is allocated; InputError naming the file otherwise.
 void check_image_spec(const std::filesystem::path& file, const OIIO::ImageSpec& spec, size_t bytes_per_value);
 // What OpenImageIO said about a failed read, as one line: its lines joined by "; ", with the lines a
-// library under it printed itself (captured by a LibraryStderr, renderer/core/library_stderr.h)
+// library under it printed itself (captured by a LibraryStderr, renderer/core/process/library_stderr.h)
 // when OIIO did not repeat them. Readers run OIIO inside a LibraryStderr({"libpng "}) so that
 // libpng's own "libpng error: ..." never precedes the one line the user gets.
 std::string library_error(std::string oiio_error, const std::vector<std::string>& library_lines);

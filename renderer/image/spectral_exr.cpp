@@ -15,8 +15,8 @@
 #include <cstring>
 #include <numeric>
 
-#include "renderer/core/atomic_file.h"
-#include "renderer/core/error.h"
+#include "renderer/core/files/atomic_file.h"
+#include "renderer/core/errors/error.h"
 #include "renderer/image/exr_header.h"
 #include "renderer/spectral/color.h"
 

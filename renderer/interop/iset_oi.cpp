@@ -8,7 +8,7 @@
 #include "renderer/camera/optics/lens_optics.h"
 #include "renderer/camera/optics/optics.h"
 #include "renderer/camera/sensor/expected_signal.h"
-#include "renderer/core/error.h"
+#include "renderer/core/errors/error.h"
 #include "renderer/spectral/units.h"
 
 namespace ofl {

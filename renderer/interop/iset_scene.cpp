@@ -10,7 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "renderer/camera/camera_pipeline.h"
-#include "renderer/core/error.h"
+#include "renderer/core/errors/error.h"
 #include "renderer/spectral/color.h"
 #include "renderer/spectral/spectrum.h"
 #include "renderer/spectral/units.h"

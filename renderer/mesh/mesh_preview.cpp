@@ -7,7 +7,7 @@
 
 #include <glm/geometric.hpp>
 
-#include "renderer/core/error.h"
+#include "renderer/core/errors/error.h"
 #include "renderer/image/image_file.h"
 #include "renderer/mesh/files/gltf_writer.h"
 #include "renderer/mesh/geometry/raster_triangle.h"

@@ -8,7 +8,7 @@
 
 #include <glm/geometric.hpp>
 
-#include "renderer/core/progress.h"
+#include "renderer/core/process/progress.h"
 #include "renderer/render/trace/sampling.h"
 
 namespace ofl {

@@ -13,7 +13,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "renderer/core/progress.h"
+#include "renderer/core/process/progress.h"
 #include "renderer/render/aov_pass.h"
 #include "renderer/render/spatial_checks.h"
 

@@ -3,7 +3,7 @@
 #pragma once
 #include <glm/vec3.hpp>
 
-#include "renderer/core/json_node.h"
+#include "renderer/core/files/json_node.h"
 
 namespace ofl {
 

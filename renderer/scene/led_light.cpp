@@ -7,8 +7,8 @@
 
 #include <glm/geometric.hpp>
 
-#include "renderer/core/csv.h"
-#include "renderer/core/error.h"
+#include "renderer/core/files/csv.h"
+#include "renderer/core/errors/error.h"
 #include "renderer/scene/ies_profile.h"
 #include "renderer/spectral/spectrum_json.h"
 #include "renderer/spectral/units.h"

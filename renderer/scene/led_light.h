@@ -10,7 +10,7 @@
 
 #include <glm/vec3.hpp>
 
-#include "renderer/core/json_node.h"
+#include "renderer/core/files/json_node.h"
 #include "renderer/spectral/wavelength_grid.h"
 
 namespace ofl {

@@ -7,8 +7,8 @@
 #include <glm/geometric.hpp>
 
 #include "materials/material_parser.h"
-#include "renderer/core/error.h"
-#include "renderer/core/memory_limit.h"
+#include "renderer/core/errors/error.h"
+#include "renderer/core/process/memory_limit.h"
 #include "renderer/mesh/files/gltf_reader.h"
 #include "renderer/scene/scene.h"
 #include "renderer/scene/scene_transform.h"

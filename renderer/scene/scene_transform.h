@@ -2,7 +2,7 @@
 #pragma once
 #include <glm/mat4x4.hpp>
 
-#include "renderer/core/json_node.h"
+#include "renderer/core/files/json_node.h"
 
 namespace ofl {
 

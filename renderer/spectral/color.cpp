@@ -4,7 +4,7 @@
 #include <cmath>
 #include <mutex>
 
-#include "renderer/core/asset_path.h"
+#include "renderer/core/files/asset_path.h"
 #include "renderer/spectral/spectrum.h"
 
 namespace ofl {

@@ -3,8 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
-#include "renderer/core/csv.h"
-#include "renderer/core/error.h"
+#include "renderer/core/files/csv.h"
+#include "renderer/core/errors/error.h"
 
 namespace ofl {
 

@@ -2,9 +2,9 @@
 
 #include <algorithm>
 
-#include "renderer/core/asset_path.h"
-#include "renderer/core/error.h"
-#include "renderer/core/json_node.h"
+#include "renderer/core/files/asset_path.h"
+#include "renderer/core/errors/error.h"
+#include "renderer/core/files/json_node.h"
 
 namespace ofl {
 

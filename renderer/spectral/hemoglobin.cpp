@@ -2,8 +2,8 @@
 
 #include <cmath>
 
-#include "renderer/core/asset_path.h"
-#include "renderer/core/file_dependencies.h"
+#include "renderer/core/files/asset_path.h"
+#include "renderer/core/files/file_dependencies.h"
 
 namespace ofl {
 

@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "renderer/core/csv.h"
+#include "renderer/core/files/csv.h"
 #include "renderer/spectral/wavelength_grid.h"
 
 namespace ofl {

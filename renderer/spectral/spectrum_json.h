@@ -11,7 +11,7 @@
 //   {"type": "sum", "terms": [<spectrum>, ...], "weights": [1.0, 0.6]}   e.g. a phosphor white LED
 // Relative file paths are relative to the file that names them.
 #pragma once
-#include "renderer/core/json_node.h"
+#include "renderer/core/files/json_node.h"
 #include "renderer/spectral/optical_filter.h"
 #include "renderer/spectral/spectrum.h"
 

@@ -7,7 +7,7 @@
 
 #include "renderer/plot/vector_plot.h"
 
-#include "renderer/core/error.h"
+#include "renderer/core/errors/error.h"
 #include "renderer/sweep/metrics/sweep_metrics.h"
 #include "renderer/sweep/metrics/sweep_plots.h"
 #include "renderer/sweep/store/sweep_store.h"

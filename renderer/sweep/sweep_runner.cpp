@@ -8,8 +8,8 @@
 #include <set>
 #include <thread>
 
-#include "renderer/core/error.h"
-#include "renderer/core/progress.h"
+#include "renderer/core/errors/error.h"
+#include "renderer/core/process/progress.h"
 #include "renderer/sweep/design/rig_generators.h"
 #include "renderer/sweep/design/sweep_design.h"
 #include "renderer/sweep/sweep_mpi.h"

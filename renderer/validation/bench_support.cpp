@@ -6,7 +6,7 @@
 
 #include <glm/geometric.hpp>
 
-#include "renderer/core/json_node.h"
+#include "renderer/core/files/json_node.h"
 #include "renderer/spectral/units.h"
 
 namespace ofl::bench {

@@ -7,8 +7,8 @@
 
 #include <glm/geometric.hpp>
 
-#include "renderer/core/error.h"
-#include "renderer/core/json_node.h"
+#include "renderer/core/errors/error.h"
+#include "renderer/core/files/json_node.h"
 #include "renderer/render/render_job.h"
 #include "renderer/render/trace/sampling.h"
 #include "renderer/spectral/units.h"

@@ -8,7 +8,7 @@
 #include <set>
 #include <sstream>
 
-#include "renderer/core/error.h"
+#include "renderer/core/errors/error.h"
 #include "renderer/render/stack/stack_walk.h"
 
 namespace ofl {

@@ -15,7 +15,7 @@
 #include "renderer/validation/closed_form_cases.h"
 #include "renderer/validation/forward_mc.h"
 #include "renderer/validation/spatial_cases.h"
-#include "renderer/core/json_node.h"
+#include "renderer/core/files/json_node.h"
 #include "renderer/image/image_file.h"
 #include "renderer/render/integrator/render_tables.h"
 #include "renderer/render/spatial/spatial_tables.h"

@@ -11,7 +11,7 @@
 
 #include "renderer/camera/elements/cfa_pattern.h"
 #include "renderer/camera/raw/raw_writer.h"
-#include "renderer/core/error.h"
+#include "renderer/core/errors/error.h"
 #include "renderer/image/spectral_exr.h"
 #include "renderer/spectral/color.h"
 

@@ -17,8 +17,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "renderer/core/asset_path.h"
-#include "renderer/core/error.h"
+#include "renderer/core/files/asset_path.h"
+#include "renderer/core/errors/error.h"
 #include "renderer/diagnose/camera/camera_model.h"
 #include "renderer/diagnose/selection/cross_validation.h"
 #include "renderer/diagnose/diagnose_job.h"

@@ -11,9 +11,9 @@
 #include <fstream>
 
 #include "renderer/camera/description/camera_description.h"
-#include "renderer/core/csv.h"
-#include "renderer/core/error.h"
-#include "renderer/core/json_node.h"
+#include "renderer/core/files/csv.h"
+#include "renderer/core/errors/error.h"
+#include "renderer/core/files/json_node.h"
 #include "renderer/diagnose/diagnose_model.h"
 #include "renderer/diagnose/problem/measurement_set.h"
 #include "renderer/image/image_file.h"

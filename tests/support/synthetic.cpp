@@ -4,9 +4,9 @@
 #include <cmath>
 #include <random>
 
-#include "renderer/core/asset_path.h"
-#include "renderer/core/csv.h"
-#include "renderer/core/error.h"
+#include "renderer/core/files/asset_path.h"
+#include "renderer/core/files/csv.h"
+#include "renderer/core/errors/error.h"
 #include "renderer/diagnose/selection/global_fit.h"
 
 namespace ofl {

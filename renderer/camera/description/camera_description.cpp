@@ -4,8 +4,8 @@
 #include <cmath>
 #include <set>
 
-#include "renderer/core/csv.h"
-#include "renderer/core/error.h"
+#include "renderer/core/files/csv.h"
+#include "renderer/core/errors/error.h"
 #include "renderer/formats/iset_sensor.h"
 #include "renderer/formats/mat_file.h"
 #include "renderer/spectral/spectrum_json.h"

@@ -28,7 +28,7 @@
 #include "renderer/camera/description/optics_description.h"
 #include "renderer/camera/elements/cfa_pattern.h"
 #include "renderer/camera/elements/filter_stack.h"
-#include "renderer/core/json_node.h"
+#include "renderer/core/files/json_node.h"
 #include "renderer/spectral/spectrum.h"
 
 namespace ofl {

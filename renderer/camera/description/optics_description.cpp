@@ -4,8 +4,8 @@
 #include <cmath>
 #include <filesystem>
 
-#include "renderer/core/csv.h"
-#include "renderer/core/error.h"
+#include "renderer/core/files/csv.h"
+#include "renderer/core/errors/error.h"
 #include "renderer/image/image_file.h"
 
 namespace ofl {

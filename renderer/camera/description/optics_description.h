@@ -9,7 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "renderer/camera/elements/psf.h"
-#include "renderer/core/json_node.h"
+#include "renderer/core/files/json_node.h"
 
 namespace ofl {
 

@@ -10,9 +10,9 @@
 #include "renderer/camera/description/camera_description.h"
 #include "renderer/camera/optics/lens_optics.h"
 #include "renderer/camera/elements/psf.h"
-#include "renderer/core/error.h"
-#include "renderer/core/progress.h"
-#include "renderer/core/memory_limit.h"
+#include "renderer/core/errors/error.h"
+#include "renderer/core/process/progress.h"
+#include "renderer/core/process/memory_limit.h"
 #include "renderer/spectral/units.h"
 
 namespace ofl {

@@ -10,9 +10,9 @@
 #include <cstring>
 #include <fstream>
 
-#include "renderer/core/atomic_file.h"
-#include "renderer/core/error.h"
-#include "renderer/core/library_stderr.h"
+#include "renderer/core/files/atomic_file.h"
+#include "renderer/core/errors/error.h"
+#include "renderer/core/process/library_stderr.h"
 #include "renderer/image/image_file.h"
 
 namespace ofl {

@@ -13,7 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "renderer/camera/elements/cfa_pattern.h"
-#include "renderer/core/json_node.h"
+#include "renderer/core/files/json_node.h"
 
 namespace ofl {
 

@@ -7,7 +7,7 @@
 #include <cmath>
 #include <sstream>
 
-#include "renderer/core/error.h"
+#include "renderer/core/errors/error.h"
 #include "renderer/spectral/units.h"
 
 namespace ofl {

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <cstdio>
 
-#include "renderer/core/error.h"
+#include "renderer/core/errors/error.h"
 
 namespace ofl {
 

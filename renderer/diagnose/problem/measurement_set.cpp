@@ -4,8 +4,8 @@
 #include <cstdlib>
 #include <set>
 
-#include "renderer/core/csv.h"
-#include "renderer/core/error.h"
+#include "renderer/core/files/csv.h"
+#include "renderer/core/errors/error.h"
 #include "renderer/spectral/spectrum.h"
 
 namespace ofl {

@@ -5,7 +5,7 @@
 #include <cstdio>
 #include <stdexcept>
 
-#include "renderer/core/error.h"
+#include "renderer/core/errors/error.h"
 
 namespace ofl {
 

@@ -7,9 +7,9 @@
 #include <set>
 #include <sstream>
 
-#include "renderer/core/atomic_file.h"
-#include "renderer/core/csv.h"
-#include "renderer/core/error.h"
+#include "renderer/core/files/atomic_file.h"
+#include "renderer/core/files/csv.h"
+#include "renderer/core/errors/error.h"
 #include "renderer/plot/charts.h"
 #include "renderer/plot/palette.h"
 

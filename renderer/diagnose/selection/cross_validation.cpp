@@ -9,8 +9,8 @@
 #include <map>
 #include <stdexcept>
 
-#include "renderer/core/error.h"
-#include "renderer/core/progress.h"
+#include "renderer/core/errors/error.h"
+#include "renderer/core/process/progress.h"
 #include "renderer/diagnose/selection/selection_policies.h"
 
 namespace ofl {

@@ -6,7 +6,7 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "renderer/core/error.h"
+#include "renderer/core/errors/error.h"
 
 namespace ofl {
 

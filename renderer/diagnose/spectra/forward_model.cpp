@@ -8,7 +8,7 @@
 #include <stdexcept>
 #include <tuple>
 
-#include "renderer/core/error.h"
+#include "renderer/core/errors/error.h"
 #include "renderer/numerics/nnls.h"
 #include "renderer/spectral/fluorophore_library.h"
 #include "renderer/spectral/hemoglobin.h"

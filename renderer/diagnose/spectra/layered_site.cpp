@@ -4,8 +4,8 @@
 #include <chrono>
 #include <cmath>
 
-#include "renderer/core/asset_path.h"
-#include "renderer/core/error.h"
+#include "renderer/core/files/asset_path.h"
+#include "renderer/core/errors/error.h"
 #include "renderer/diagnose/spectra/flat_patch.h"
 #include "renderer/render/integrator/render_tables.h"
 #include "renderer/render/stack/stack_response.h"

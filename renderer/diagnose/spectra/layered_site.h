@@ -34,7 +34,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "renderer/core/json_node.h"
+#include "renderer/core/files/json_node.h"
 #include "renderer/spectral/eem.h"
 #include "renderer/spectral/wavelength_grid.h"
 

@@ -6,8 +6,8 @@
 #include <set>
 #include <stdexcept>
 
-#include "renderer/core/asset_path.h"
-#include "renderer/core/json_node.h"
+#include "renderer/core/files/asset_path.h"
+#include "renderer/core/files/json_node.h"
 #include "renderer/diagnose/problem/model_extensions.h"
 #include "renderer/numerics/nnls.h"
 #include "renderer/render/render_job.h"

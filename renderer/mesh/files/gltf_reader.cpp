@@ -10,8 +10,8 @@
 #include <glm/mat4x4.hpp>
 #include <tiny_gltf.h>
 
-#include "renderer/core/error.h"
-#include "renderer/core/file_dependencies.h"
+#include "renderer/core/errors/error.h"
+#include "renderer/core/files/file_dependencies.h"
 
 namespace ofl {
 namespace {

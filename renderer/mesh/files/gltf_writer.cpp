@@ -7,8 +7,8 @@
 
 #include <tiny_gltf.h>
 
-#include "renderer/core/atomic_file.h"
-#include "renderer/core/error.h"
+#include "renderer/core/files/atomic_file.h"
+#include "renderer/core/errors/error.h"
 #include "renderer/mesh/geometry/mesh_measure.h"
 
 namespace ofl {

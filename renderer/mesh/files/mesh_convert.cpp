@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "renderer/core/error.h"
+#include "renderer/core/errors/error.h"
 #include "renderer/mesh/geometry/mesh_measure.h"
 #include "renderer/mesh/files/obj_reader.h"
 

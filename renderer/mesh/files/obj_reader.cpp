@@ -10,7 +10,7 @@
 
 #include <glm/geometric.hpp>
 
-#include "renderer/core/error.h"
+#include "renderer/core/errors/error.h"
 
 namespace ofl {
 namespace {

@@ -2,8 +2,8 @@
 
 #include <algorithm>
 
-#include "renderer/core/error.h"
-#include "renderer/core/json_node.h"
+#include "renderer/core/errors/error.h"
+#include "renderer/core/files/json_node.h"
 
 namespace ofl {
 

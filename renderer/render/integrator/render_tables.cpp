@@ -6,7 +6,7 @@
 
 #include "renderer/camera/description/camera_description.h"
 #include "renderer/camera/sensor/expected_signal.h"
-#include "renderer/core/error.h"
+#include "renderer/core/errors/error.h"
 #include "renderer/render/spatial/spatial_tables.h"
 #include "renderer/render/spatial/stack_profiles.h"
 #include "renderer/render/stack/stack_response.h"

@@ -6,8 +6,8 @@
 
 #include <tbb/parallel_for.h>
 
-#include "renderer/core/hash.h"
-#include "renderer/core/progress.h"
+#include "renderer/core/files/hash.h"
+#include "renderer/core/process/progress.h"
 #include "renderer/render/stack/stack_fill.h"
 #include "renderer/render/stack/stack_response_cache.h"
 

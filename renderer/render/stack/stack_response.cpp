@@ -7,7 +7,7 @@
 
 #include <tbb/parallel_for.h>
 
-#include "renderer/core/progress.h"
+#include "renderer/core/process/progress.h"
 #include "renderer/render/stack/stack_fill.h"
 #include "renderer/render/stack/stack_response_cache.h"
 

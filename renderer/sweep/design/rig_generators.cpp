@@ -6,8 +6,8 @@
 
 #include <glm/vec3.hpp>
 
-#include "renderer/core/error.h"
-#include "renderer/core/json_node.h"
+#include "renderer/core/errors/error.h"
+#include "renderer/core/files/json_node.h"
 
 namespace ofl {
 namespace {

@@ -4,7 +4,7 @@
 #include <cctype>
 #include <set>
 
-#include "renderer/core/error.h"
+#include "renderer/core/errors/error.h"
 
 namespace ofl {
 namespace {

@@ -14,7 +14,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "renderer/core/json_node.h"
+#include "renderer/core/files/json_node.h"
 
 namespace ofl {
 

@@ -4,8 +4,8 @@
 #include <cstdio>
 #include <fstream>
 
-#include "renderer/core/error.h"
-#include "renderer/core/hash.h"
+#include "renderer/core/errors/error.h"
+#include "renderer/core/files/hash.h"
 #include "renderer/image/spectral_exr.h"
 #include "renderer/sweep/store/sweep_store.h"
 

@@ -7,8 +7,8 @@
 #include <cerrno>
 #include <cstring>
 
-#include "renderer/core/atomic_file.h"
-#include "renderer/core/error.h"
+#include "renderer/core/files/atomic_file.h"
+#include "renderer/core/errors/error.h"
 
 namespace ofl {
 

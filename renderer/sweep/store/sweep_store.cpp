@@ -9,8 +9,8 @@
 #include <fstream>
 #include <sstream>
 
-#include "renderer/core/atomic_file.h"
-#include "renderer/core/error.h"
+#include "renderer/core/files/atomic_file.h"
+#include "renderer/core/errors/error.h"
 
 namespace ofl {
 

@@ -13,7 +13,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "renderer/core/atomic_file.h"
+#include "renderer/core/files/atomic_file.h"
 
 namespace ofl {
 

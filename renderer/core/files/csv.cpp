@@ -1,4 +1,4 @@
-#include "renderer/core/csv.h"
+#include "renderer/core/files/csv.h"
 
 #include <cerrno>
 #include <cmath>
@@ -6,8 +6,8 @@
 #include <fstream>
 #include <sstream>
 
-#include "renderer/core/atomic_file.h"
-#include "renderer/core/error.h"
+#include "renderer/core/files/atomic_file.h"
+#include "renderer/core/errors/error.h"
 
 namespace ofl {
 namespace {

@@ -1,4 +1,4 @@
-#include "renderer/core/atomic_file.h"
+#include "renderer/core/files/atomic_file.h"
 
 #include <fcntl.h>
 #include <sys/mman.h>
@@ -9,7 +9,7 @@
 #include <cerrno>
 #include <cstring>
 
-#include "renderer/core/error.h"
+#include "renderer/core/errors/error.h"
 
 namespace ofl {
 namespace {

@@ -1,4 +1,4 @@
-#include "renderer/core/file_dependencies.h"
+#include "renderer/core/files/file_dependencies.h"
 
 namespace ofl {
 namespace {

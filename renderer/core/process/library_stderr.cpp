@@ -1,4 +1,4 @@
-#include "renderer/core/library_stderr.h"
+#include "renderer/core/process/library_stderr.h"
 
 #include <sys/mman.h>
 #include <unistd.h>

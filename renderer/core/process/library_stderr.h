@@ -1,6 +1,6 @@
 // Some libraries under OpenImageIO print their own diagnostics on stderr ("libpng error: Not enough
 // image data") before OpenImageIO hands the same error back to the caller, who reports it in the
-// project's one-line form (renderer/core/error.h). A LibraryStderr sends file descriptor 2 to an
+// project's one-line form (renderer/core/errors/error.h). A LibraryStderr sends file descriptor 2 to an
 // in-memory file while such a call runs. When it ends, the lines that start with one of the
 // library's prefixes are taken out (end() returns them; the caller reports them in its own words),
 // and everything else that reached stderr meanwhile (another thread's progress line) is passed on

@@ -1,11 +1,11 @@
-#include "renderer/core/json_node.h"
+#include "renderer/core/files/json_node.h"
 
 #include <cmath>
 #include <fstream>
 #include <sstream>
 
-#include "renderer/core/error.h"
-#include "renderer/core/file_dependencies.h"
+#include "renderer/core/errors/error.h"
+#include "renderer/core/files/file_dependencies.h"
 
 namespace ofl {
 namespace {

@@ -1,4 +1,4 @@
-#include "renderer/core/memory_limit.h"
+#include "renderer/core/process/memory_limit.h"
 
 #include <sys/resource.h>
 #include <unistd.h>
@@ -7,7 +7,7 @@
 #include <cstdio>
 #include <cstdlib>
 
-#include "renderer/core/error.h"
+#include "renderer/core/errors/error.h"
 
 namespace ofl {
 namespace {

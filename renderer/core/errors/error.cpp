@@ -1,5 +1,5 @@
-#include "renderer/core/error.h"
-#include "renderer/core/message_text.h"
+#include "renderer/core/errors/error.h"
+#include "renderer/core/errors/message_text.h"
 
 namespace ofl {
 

@@ -1,8 +1,8 @@
-#include "renderer/core/asset_path.h"
+#include "renderer/core/files/asset_path.h"
 
 #include <cstdlib>
 
-#include "renderer/core/error.h"
+#include "renderer/core/errors/error.h"
 
 namespace ofl {
 

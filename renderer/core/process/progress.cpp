@@ -1,4 +1,4 @@
-#include "renderer/core/progress.h"
+#include "renderer/core/process/progress.h"
 
 #include <unistd.h>
 
@@ -6,7 +6,7 @@
 #include <cstdio>
 #include <cstdlib>
 
-#include "renderer/core/error.h"
+#include "renderer/core/errors/error.h"
 
 namespace ofl {
 namespace {
