@@ -8,7 +8,7 @@
 #include <glm/geometric.hpp>
 
 #include "materials/material_parser.h"
-#include "renderer/spectral/units.h"
+#include "renderer/spectral/spectra/units.h"
 
 namespace ofl {
 

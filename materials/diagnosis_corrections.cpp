@@ -3,7 +3,7 @@
 #include <cmath>
 
 #include "renderer/core/errors/error.h"
-#include "renderer/spectral/sample_shapes.h"
+#include "renderer/spectral/spectra/sample_shapes.h"
 
 namespace ofl {
 

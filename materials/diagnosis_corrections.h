@@ -17,8 +17,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "renderer/spectral/eem.h"
-#include "renderer/spectral/hemoglobin.h"
+#include "renderer/spectral/chromophores/eem.h"
+#include "renderer/spectral/chromophores/hemoglobin.h"
 
 namespace ofl {
 

@@ -10,7 +10,7 @@
 
 #include "materials/material_parser.h"
 #include "renderer/core/errors/error.h"
-#include "renderer/spectral/fluorophore_library.h"
+#include "renderer/spectral/chromophores/fluorophore_library.h"
 
 namespace ofl {
 

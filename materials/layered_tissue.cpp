@@ -40,7 +40,7 @@
 #include "materials/material_parser.h"
 #include "renderer/core/files/asset_path.h"
 #include "renderer/core/errors/error.h"
-#include "renderer/spectral/hemoglobin.h"
+#include "renderer/spectral/chromophores/hemoglobin.h"
 #include "renderer/spectral/spectrum_json.h"
 
 namespace ofl {

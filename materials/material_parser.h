@@ -19,7 +19,7 @@
 #include "materials/material.h"
 #include "renderer/core/files/json_node.h"
 #include "renderer/image/texture.h"
-#include "renderer/spectral/eem.h"
+#include "renderer/spectral/chromophores/eem.h"
 
 namespace ofl {
 

@@ -35,7 +35,7 @@
 
 #include "materials/material_parser.h"
 #include "materials/diagnosis_corrections.h"
-#include "renderer/spectral/hemoglobin.h"
+#include "renderer/spectral/chromophores/hemoglobin.h"
 #include "renderer/core/files/asset_path.h"
 #include "renderer/core/errors/error.h"
 

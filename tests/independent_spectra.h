@@ -21,8 +21,8 @@
 #include "renderer/core/files/asset_path.h"
 #include "renderer/diagnose/spectra/forward_model.h"
 #include "tests/support/synthetic.h"
-#include "renderer/spectral/eem.h"
-#include "renderer/spectral/spectrum.h"
+#include "renderer/spectral/chromophores/eem.h"
+#include "renderer/spectral/spectra/spectrum.h"
 
 namespace ofl::indep {
 

@@ -20,8 +20,8 @@
 #include "renderer/image/spectral_exr.h"
 #include "renderer/render/render_job.h"
 #include "renderer/scene/scene.h"
-#include "renderer/spectral/band_coverage.h"
-#include "renderer/spectral/units.h"
+#include "renderer/spectral/spectra/band_coverage.h"
+#include "renderer/spectral/spectra/units.h"
 #include "camera_test_util.h"
 #include "cli_runner.h"
 

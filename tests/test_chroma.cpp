@@ -13,7 +13,7 @@
 #include "renderer/analysis/fluorescence_chart.h"
 #include "renderer/camera/camera_pipeline.h"
 #include "renderer/image/spectral_exr.h"
-#include "renderer/spectral/fluorophore_library.h"
+#include "renderer/spectral/chromophores/fluorophore_library.h"
 
 using namespace ofl;
 using namespace ofl::testing;

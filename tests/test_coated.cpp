@@ -9,7 +9,7 @@
 #include "renderer/render/render_job.h"
 #include "renderer/render/trace/rng.h"
 #include "renderer/render/trace/sampling.h"
-#include "renderer/spectral/units.h"
+#include "renderer/spectral/spectra/units.h"
 
 using namespace ofl;
 

@@ -5,8 +5,8 @@
 #include <cmath>
 
 #include "materials/diagnosis_corrections.h"
-#include "renderer/spectral/fluorophore_library.h"
-#include "renderer/spectral/hemoglobin.h"
+#include "renderer/spectral/chromophores/fluorophore_library.h"
+#include "renderer/spectral/chromophores/hemoglobin.h"
 
 using namespace ofl;
 

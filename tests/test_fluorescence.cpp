@@ -11,7 +11,7 @@
 #include "renderer/render/integrator/render_tables.h"
 #include "renderer/render/material/albedo_matrix.h"
 #include "renderer/scene/scene.h"
-#include "renderer/spectral/fluorophore_library.h"
+#include "renderer/spectral/chromophores/fluorophore_library.h"
 #include "tests/cli_runner.h"
 #include "tests/stat_utils.h"
 

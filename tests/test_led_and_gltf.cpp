@@ -14,7 +14,7 @@
 #include "renderer/scene/led_light.h"
 #include "renderer/mesh/files/gltf_reader.h"
 #include "renderer/mesh/geometry/mesh_measure.h"
-#include "renderer/spectral/units.h"
+#include "renderer/spectral/spectra/units.h"
 
 using namespace ofl;
 

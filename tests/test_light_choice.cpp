@@ -15,7 +15,7 @@
 #include "renderer/validation/bench_support.h"
 #include "renderer/render/trace/light_choice.h"
 #include "renderer/render/trace/rng.h"
-#include "renderer/spectral/units.h"
+#include "renderer/spectral/spectra/units.h"
 #include "tests/stat_utils.h"
 
 using namespace ofl;

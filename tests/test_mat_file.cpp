@@ -15,7 +15,7 @@
 #include "renderer/core/errors/error.h"
 #include "renderer/formats/mat_file.h"
 #include "renderer/formats/mat_spectrum.h"
-#include "renderer/spectral/spectrum.h"
+#include "renderer/spectral/spectra/spectrum.h"
 #include "renderer/spectral/spectrum_json.h"
 
 namespace ofl {

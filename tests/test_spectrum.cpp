@@ -5,8 +5,8 @@
 #include <fstream>
 
 #include "renderer/core/errors/error.h"
-#include "renderer/spectral/spectrum.h"
-#include "renderer/spectral/units.h"
+#include "renderer/spectral/spectra/spectrum.h"
+#include "renderer/spectral/spectra/units.h"
 
 using namespace ofl;
 

@@ -6,8 +6,8 @@
 #include "renderer/core/errors/error.h"
 #include "renderer/core/files/json_node.h"
 #include "renderer/render/render_job.h"
-#include "renderer/spectral/hemoglobin.h"
-#include "renderer/spectral/units.h"
+#include "renderer/spectral/chromophores/hemoglobin.h"
+#include "renderer/spectral/spectra/units.h"
 #include "tests/tissue_ratio.h"
 
 #include <filesystem>

@@ -9,7 +9,7 @@
 
 #include "renderer/core/files/json_node.h"
 #include "renderer/render/render_job.h"
-#include "renderer/spectral/units.h"
+#include "renderer/spectral/spectra/units.h"
 
 namespace ofl::test {
 

@@ -7,8 +7,8 @@
 #include "renderer/analysis/chromaticity.h"
 #include "renderer/analysis/fluorescence_chart.h"
 #include "renderer/core/errors/error.h"
-#include "renderer/spectral/fluorophore_library.h"
-#include "renderer/spectral/units.h"
+#include "renderer/spectral/chromophores/fluorophore_library.h"
+#include "renderer/spectral/spectra/units.h"
 
 namespace ofl::python {
 namespace {

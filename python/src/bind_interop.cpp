@@ -14,7 +14,7 @@
 #include "renderer/formats/iset_sensor.h"
 #include "renderer/formats/mat_file.h"
 #include "renderer/formats/mat_spectrum.h"
-#include "renderer/spectral/spectrum.h"
+#include "renderer/spectral/spectra/spectrum.h"
 
 namespace ofl::python {
 namespace {

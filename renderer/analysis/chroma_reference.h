@@ -17,9 +17,9 @@
 #include <nlohmann/json.hpp>
 
 #include "renderer/camera/description/camera_description.h"
-#include "renderer/spectral/eem.h"
-#include "renderer/spectral/spectrum.h"
-#include "renderer/spectral/wavelength_grid.h"
+#include "renderer/spectral/chromophores/eem.h"
+#include "renderer/spectral/spectra/spectrum.h"
+#include "renderer/spectral/spectra/wavelength_grid.h"
 
 namespace ofl {
 

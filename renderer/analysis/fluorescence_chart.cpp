@@ -6,8 +6,8 @@
 #include <nlohmann/json.hpp>
 
 #include "renderer/core/files/asset_path.h"
-#include "renderer/spectral/fluorophore_library.h"
-#include "renderer/spectral/units.h"
+#include "renderer/spectral/chromophores/fluorophore_library.h"
+#include "renderer/spectral/spectra/units.h"
 
 namespace ofl {
 

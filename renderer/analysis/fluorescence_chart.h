@@ -11,8 +11,8 @@
 #include <vector>
 
 #include "renderer/image/spectral_image.h"
-#include "renderer/spectral/spectrum.h"
-#include "renderer/spectral/wavelength_grid.h"
+#include "renderer/spectral/spectra/spectrum.h"
+#include "renderer/spectral/spectra/wavelength_grid.h"
 
 namespace ofl {
 

@@ -9,8 +9,8 @@
 #include "renderer/core/errors/error.h"
 #include "renderer/core/process/progress.h"
 #include "renderer/image/image_file.h"
-#include "renderer/spectral/band_coverage.h"
-#include "renderer/spectral/units.h"
+#include "renderer/spectral/spectra/band_coverage.h"
+#include "renderer/spectral/spectra/units.h"
 
 namespace ofl {
 

@@ -19,9 +19,9 @@
 #include "renderer/core/files/asset_path.h"
 #include "renderer/core/errors/error.h"
 #include "renderer/image/spectral_exr.h"
-#include "renderer/spectral/fluorophore_library.h"
+#include "renderer/spectral/chromophores/fluorophore_library.h"
 #include "renderer/spectral/spectrum_json.h"
-#include "renderer/spectral/units.h"
+#include "renderer/spectral/spectra/units.h"
 
 namespace ofl {
 namespace {

@@ -5,7 +5,7 @@
 #include <nlohmann/json.hpp>
 
 #include "renderer/cli/commands.h"
-#include "renderer/spectral/fluorophore_library.h"
+#include "renderer/spectral/chromophores/fluorophore_library.h"
 
 namespace ofl {
 

@@ -9,7 +9,7 @@
 #include "renderer/camera/optics/optics.h"
 #include "renderer/camera/sensor/expected_signal.h"
 #include "renderer/core/errors/error.h"
-#include "renderer/spectral/units.h"
+#include "renderer/spectral/spectra/units.h"
 
 namespace ofl {
 namespace {

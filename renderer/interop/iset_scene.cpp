@@ -12,8 +12,8 @@
 #include "renderer/camera/camera_pipeline.h"
 #include "renderer/core/errors/error.h"
 #include "renderer/spectral/color.h"
-#include "renderer/spectral/spectrum.h"
-#include "renderer/spectral/units.h"
+#include "renderer/spectral/spectra/spectrum.h"
+#include "renderer/spectral/spectra/units.h"
 
 namespace ofl {
 namespace {

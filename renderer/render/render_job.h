@@ -8,7 +8,7 @@
 #include "renderer/image/spectral_image.h"
 #include "renderer/render/integrator/path_tracer.h"
 #include "renderer/scene/scene.h"
-#include "renderer/spectral/band_coverage.h"
+#include "renderer/spectral/spectra/band_coverage.h"
 
 namespace ofl {
 

@@ -4,7 +4,7 @@
 
 #include <glm/geometric.hpp>
 
-#include "renderer/spectral/units.h"
+#include "renderer/spectral/spectra/units.h"
 
 namespace ofl {
 

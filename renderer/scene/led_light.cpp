@@ -11,7 +11,7 @@
 #include "renderer/core/errors/error.h"
 #include "renderer/scene/ies_profile.h"
 #include "renderer/spectral/spectrum_json.h"
-#include "renderer/spectral/units.h"
+#include "renderer/spectral/spectra/units.h"
 
 namespace ofl {
 

@@ -11,7 +11,7 @@
 #include <glm/vec3.hpp>
 
 #include "renderer/core/files/json_node.h"
-#include "renderer/spectral/wavelength_grid.h"
+#include "renderer/spectral/spectra/wavelength_grid.h"
 
 namespace ofl {
 

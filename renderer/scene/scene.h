@@ -16,8 +16,8 @@
 #include "renderer/scene/led_light.h"
 #include "renderer/image/texture.h"
 #include "renderer/mesh/geometry/triangle_mesh.h"
-#include "renderer/spectral/eem.h"
-#include "renderer/spectral/wavelength_grid.h"
+#include "renderer/spectral/chromophores/eem.h"
+#include "renderer/spectral/spectra/wavelength_grid.h"
 
 namespace ofl {
 

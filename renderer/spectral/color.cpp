@@ -5,7 +5,7 @@
 #include <mutex>
 
 #include "renderer/core/files/asset_path.h"
-#include "renderer/spectral/spectrum.h"
+#include "renderer/spectral/spectra/spectrum.h"
 
 namespace ofl {
 namespace {

@@ -4,7 +4,7 @@
 #include <array>
 #include <vector>
 
-#include "renderer/spectral/wavelength_grid.h"
+#include "renderer/spectral/spectra/wavelength_grid.h"
 
 namespace ofl {
 

@@ -12,8 +12,8 @@
 // Relative file paths are relative to the file that names them.
 #pragma once
 #include "renderer/core/files/json_node.h"
-#include "renderer/spectral/optical_filter.h"
-#include "renderer/spectral/spectrum.h"
+#include "renderer/spectral/spectra/optical_filter.h"
+#include "renderer/spectral/spectra/spectrum.h"
 
 namespace ofl {
 

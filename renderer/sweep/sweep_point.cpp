@@ -17,7 +17,7 @@
 #include "renderer/core/files/file_dependencies.h"
 #include "renderer/image/png_writer.h"
 #include "renderer/render/render_job.h"
-#include "renderer/spectral/fluorophore_library.h"
+#include "renderer/spectral/chromophores/fluorophore_library.h"
 #include "renderer/sweep/design/rig_generators.h"
 #include "renderer/sweep/metrics/signal_split.h"
 #include "renderer/sweep/metrics/sweep_metrics.h"

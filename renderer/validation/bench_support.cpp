@@ -7,7 +7,7 @@
 #include <glm/geometric.hpp>
 
 #include "renderer/core/files/json_node.h"
-#include "renderer/spectral/units.h"
+#include "renderer/spectral/spectra/units.h"
 
 namespace ofl::bench {
 

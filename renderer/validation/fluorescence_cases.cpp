@@ -10,7 +10,7 @@
 
 #include "renderer/validation/bench_support.h"
 #include "renderer/validation/closed_form_cases.h"
-#include "renderer/spectral/units.h"
+#include "renderer/spectral/spectra/units.h"
 
 namespace ofl {
 namespace {

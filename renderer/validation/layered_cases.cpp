@@ -30,7 +30,7 @@
 #include "renderer/core/files/json_node.h"
 #include "renderer/render/integrator/layered_bsdf.h"
 #include "renderer/render/integrator/render_tables.h"
-#include "renderer/spectral/units.h"
+#include "renderer/spectral/spectra/units.h"
 
 namespace ofl {
 

@@ -9,7 +9,7 @@
 
 #include "renderer/validation/mcml.h"
 #include "renderer/render/spatial/stack_profiles.h"
-#include "renderer/spectral/units.h"
+#include "renderer/spectral/spectra/units.h"
 
 namespace ofl {
 

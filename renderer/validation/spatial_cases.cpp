@@ -22,7 +22,7 @@
 #include "renderer/render/stack/stack_response.h"
 #include "renderer/render/stack/stack_response_cache.h"
 #include "renderer/render/trace/rng.h"
-#include "renderer/spectral/units.h"
+#include "renderer/spectral/spectra/units.h"
 
 namespace ofl {
 

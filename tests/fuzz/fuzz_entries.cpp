@@ -25,8 +25,8 @@
 #include "renderer/mesh/files/obj_reader.h"
 #include "renderer/scene/ies_profile.h"
 #include "renderer/scene/scene.h"
-#include "renderer/spectral/eem.h"
-#include "renderer/spectral/spectrum.h"
+#include "renderer/spectral/chromophores/eem.h"
+#include "renderer/spectral/spectra/spectrum.h"
 #include "renderer/sweep/design/sweep_spec.h"
 
 namespace ofl::fuzz {

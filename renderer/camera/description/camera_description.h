@@ -29,7 +29,7 @@
 #include "renderer/camera/elements/cfa_pattern.h"
 #include "renderer/camera/elements/filter_stack.h"
 #include "renderer/core/files/json_node.h"
-#include "renderer/spectral/spectrum.h"
+#include "renderer/spectral/spectra/spectrum.h"
 
 namespace ofl {
 

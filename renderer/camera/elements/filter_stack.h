@@ -10,8 +10,8 @@
 #include <string>
 #include <vector>
 
-#include "renderer/spectral/optical_filter.h"
-#include "renderer/spectral/spectrum.h"
+#include "renderer/spectral/spectra/optical_filter.h"
+#include "renderer/spectral/spectra/spectrum.h"
 
 namespace ofl {
 

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "renderer/spectral/units.h"
+#include "renderer/spectral/spectra/units.h"
 
 namespace ofl {
 

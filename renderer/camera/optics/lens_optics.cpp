@@ -5,7 +5,7 @@
 #include <cstdlib>
 #include <sstream>
 
-#include "renderer/spectral/units.h"
+#include "renderer/spectral/spectra/units.h"
 
 namespace ofl {
 

@@ -13,7 +13,7 @@
 #include "renderer/core/errors/error.h"
 #include "renderer/core/process/progress.h"
 #include "renderer/core/process/memory_limit.h"
-#include "renderer/spectral/units.h"
+#include "renderer/spectral/spectra/units.h"
 
 namespace ofl {
 

@@ -8,7 +8,7 @@
 #include <sstream>
 
 #include "renderer/core/errors/error.h"
-#include "renderer/spectral/units.h"
+#include "renderer/spectral/spectra/units.h"
 
 namespace ofl {
 namespace {

@@ -14,7 +14,7 @@
 #include "renderer/diagnose/problem/diagnose_problem.h"
 #include "renderer/diagnose/problem/measurement_set.h"
 #include "renderer/diagnose/problem/model_extensions.h"
-#include "renderer/spectral/spectrum.h"
+#include "renderer/spectral/spectra/spectrum.h"
 
 namespace ofl {
 

@@ -6,7 +6,7 @@
 
 #include "renderer/core/files/csv.h"
 #include "renderer/core/errors/error.h"
-#include "renderer/spectral/spectrum.h"
+#include "renderer/spectral/spectra/spectrum.h"
 
 namespace ofl {
 namespace fs = std::filesystem;

@@ -47,7 +47,7 @@
 #include <vector>
 
 #include "renderer/diagnose/problem/diagnose_problem.h"
-#include "renderer/spectral/sample_shapes.h"
+#include "renderer/spectral/spectra/sample_shapes.h"
 
 namespace ofl {
 
@@ -112,6 +112,6 @@ std::vector<double> response_knots(const SpectraRange& range);
 std::vector<CandidateSpec> camera_candidates(const CameraCandidateOptions& o, double signal_scale);
 CameraCause camera_cause(const CandidateSpec& c);
 
-// gaussian_blur and shift_samples: renderer/spectral/sample_shapes.h
+// gaussian_blur and shift_samples: renderer/spectral/spectra/sample_shapes.h
 
 }  // namespace ofl

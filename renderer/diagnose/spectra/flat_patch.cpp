@@ -4,7 +4,7 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "renderer/spectral/units.h"
+#include "renderer/spectral/spectra/units.h"
 
 namespace ofl {
 

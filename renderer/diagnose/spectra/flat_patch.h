@@ -8,7 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "renderer/spectral/wavelength_grid.h"
+#include "renderer/spectral/spectra/wavelength_grid.h"
 
 namespace ofl {
 

@@ -10,8 +10,8 @@
 
 #include "renderer/core/errors/error.h"
 #include "renderer/numerics/nnls.h"
-#include "renderer/spectral/fluorophore_library.h"
-#include "renderer/spectral/hemoglobin.h"
+#include "renderer/spectral/chromophores/fluorophore_library.h"
+#include "renderer/spectral/chromophores/hemoglobin.h"
 
 namespace ofl {
 

@@ -22,9 +22,9 @@
 #include "renderer/diagnose/spectra/layered_site.h"
 #include "renderer/diagnose/problem/measurement_set.h"
 #include "renderer/diagnose/problem/model_extensions.h"
-#include "renderer/spectral/eem.h"
-#include "renderer/spectral/optical_filter.h"
-#include "renderer/spectral/spectrum.h"
+#include "renderer/spectral/chromophores/eem.h"
+#include "renderer/spectral/spectra/optical_filter.h"
+#include "renderer/spectral/spectra/spectrum.h"
 
 namespace ofl {
 

@@ -35,8 +35,8 @@
 #include <nlohmann/json.hpp>
 
 #include "renderer/core/files/json_node.h"
-#include "renderer/spectral/eem.h"
-#include "renderer/spectral/wavelength_grid.h"
+#include "renderer/spectral/chromophores/eem.h"
+#include "renderer/spectral/spectra/wavelength_grid.h"
 
 namespace ofl {
 

@@ -11,7 +11,7 @@
 #include "renderer/render/spatial/stack_profiles.h"
 #include "renderer/render/stack/stack_response.h"
 #include "renderer/render/stack/stack_response_cache.h"
-#include "renderer/spectral/units.h"
+#include "renderer/spectral/spectra/units.h"
 
 namespace ofl {
 

@@ -10,7 +10,7 @@
 
 #include "materials/dielectric_interface.h"
 #include "materials/layered.h"
-#include "renderer/spectral/eem.h"
+#include "renderer/spectral/chromophores/eem.h"
 
 namespace ofl {
 

@@ -18,7 +18,7 @@
 #include "renderer/camera/description/camera_description.h"
 #include "renderer/camera/sensor/expected_signal.h"
 #include "renderer/image/spectral_image.h"
-#include "renderer/spectral/wavelength_grid.h"
+#include "renderer/spectral/spectra/wavelength_grid.h"
 
 namespace ofl {
 

@@ -1,4 +1,4 @@
-#include "renderer/spectral/eem.h"
+#include "renderer/spectral/chromophores/eem.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "renderer/spectral/band_coverage.h"
+#include "renderer/spectral/spectra/band_coverage.h"
 
 #include <algorithm>
 #include <cstdio>

@@ -7,9 +7,9 @@
 #pragma once
 #include <vector>
 
-#include "renderer/spectral/eem.h"
-#include "renderer/spectral/spectrum.h"
-#include "renderer/spectral/wavelength_grid.h"
+#include "renderer/spectral/chromophores/eem.h"
+#include "renderer/spectral/spectra/spectrum.h"
+#include "renderer/spectral/spectra/wavelength_grid.h"
 
 namespace ofl {
 

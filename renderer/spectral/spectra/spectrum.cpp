@@ -1,4 +1,4 @@
-#include "renderer/spectral/spectrum.h"
+#include "renderer/spectral/spectra/spectrum.h"
 
 #include <algorithm>
 #include <cmath>
@@ -8,7 +8,7 @@
 #include "renderer/core/errors/error.h"
 #include "renderer/formats/mat_spectrum.h"
 #include "renderer/formats/mat_file.h"
-#include "renderer/spectral/units.h"
+#include "renderer/spectral/spectra/units.h"
 
 namespace ofl {
 

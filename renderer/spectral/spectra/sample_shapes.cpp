@@ -1,4 +1,4 @@
-#include "renderer/spectral/sample_shapes.h"
+#include "renderer/spectral/spectra/sample_shapes.h"
 
 #include <algorithm>
 #include <cmath>

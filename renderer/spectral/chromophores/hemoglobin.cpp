@@ -1,4 +1,4 @@
-#include "renderer/spectral/hemoglobin.h"
+#include "renderer/spectral/chromophores/hemoglobin.h"
 
 #include <cmath>
 

@@ -1,4 +1,4 @@
-#include "renderer/spectral/fluorophore_library.h"
+#include "renderer/spectral/chromophores/fluorophore_library.h"
 
 #include <algorithm>
 

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "renderer/spectral/eem.h"
+#include "renderer/spectral/chromophores/eem.h"
 
 namespace ofl {
 

@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "renderer/core/files/csv.h"
-#include "renderer/spectral/wavelength_grid.h"
+#include "renderer/spectral/spectra/wavelength_grid.h"
 
 namespace ofl {
 

@@ -1,4 +1,4 @@
-#include "renderer/spectral/optical_filter.h"
+#include "renderer/spectral/spectra/optical_filter.h"
 
 #include <cmath>
 

@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "renderer/spectral/wavelength_grid.h"
+#include "renderer/spectral/spectra/wavelength_grid.h"
 
 namespace ofl {
 

@@ -7,7 +7,7 @@
 #pragma once
 #include <string>
 
-#include "renderer/spectral/spectrum.h"
+#include "renderer/spectral/spectra/spectrum.h"
 
 namespace ofl {
 

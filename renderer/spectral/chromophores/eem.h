@@ -8,8 +8,8 @@
 #include <string>
 #include <vector>
 
-#include "renderer/spectral/spectrum.h"
-#include "renderer/spectral/wavelength_grid.h"
+#include "renderer/spectral/spectra/spectrum.h"
+#include "renderer/spectral/spectra/wavelength_grid.h"
 
 namespace ofl {
 
