@@ -12,7 +12,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "renderer/validation/closed_form_cases.h"
+#include "renderer/validation/cases/closed_form_cases.h"
 #include "renderer/render/render_job.h"
 
 using namespace ofl;

@@ -1,7 +1,7 @@
 // How far light travels sideways in the shipped layered presets: the position-free walk returns
 // light where it entered, which holds when the pixel footprint is larger than this spread
 // (docs/layered-tissue.md). For each preset and wavelength the stack is run as an MCML slab
-// (normally incident pencil beam, renderer/validation/mcml.h) and the radius holding 90 % of the
+// (normally incident pencil beam, renderer/validation/references/mcml.h) and the radius holding 90 % of the
 // diffuse reflectance is reported with the diffuse reflectance itself.
 //   usage: layered_spread [--photons N] [--json]
 #include <cstdio>
@@ -9,7 +9,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "renderer/validation/mcml.h"
+#include "renderer/validation/references/mcml.h"
 #include "renderer/core/files/json_node.h"
 #include "renderer/render/integrator/render_tables.h"
 

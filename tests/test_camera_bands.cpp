@@ -10,8 +10,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "renderer/validation/bench_support.h"
-#include "renderer/validation/closed_form_cases.h"
+#include "renderer/validation/harness/bench_support.h"
+#include "renderer/validation/cases/closed_form_cases.h"
 #include "renderer/camera/camera_pipeline.h"
 #include "renderer/camera/sensor/expected_signal.h"
 #include "renderer/camera/optics/lens_optics.h"

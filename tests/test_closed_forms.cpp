@@ -5,7 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "renderer/validation/closed_form_cases.h"
+#include "renderer/validation/cases/closed_form_cases.h"
 
 using namespace ofl;
 

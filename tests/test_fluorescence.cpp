@@ -6,7 +6,7 @@
 #include <fstream>
 
 #include "materials/material_parser.h"
-#include "renderer/validation/closed_form_cases.h"
+#include "renderer/validation/cases/closed_form_cases.h"
 #include "renderer/core/errors/error.h"
 #include "renderer/render/integrator/render_tables.h"
 #include "renderer/render/material/albedo_matrix.h"

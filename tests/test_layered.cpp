@@ -13,9 +13,9 @@
 
 #include <fstream>
 
-#include "renderer/validation/bench_check.h"
-#include "renderer/validation/closed_form_cases.h"
-#include "renderer/validation/mcml.h"
+#include "renderer/validation/harness/bench_check.h"
+#include "renderer/validation/cases/closed_form_cases.h"
+#include "renderer/validation/references/mcml.h"
 #include "renderer/core/errors/error.h"
 #include "renderer/core/files/json_node.h"
 #include "renderer/render/render_job.h"

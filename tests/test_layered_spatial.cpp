@@ -18,7 +18,7 @@
 #include <fstream>
 
 #include "cli_runner.h"
-#include "renderer/validation/bench_check.h"
+#include "renderer/validation/harness/bench_check.h"
 #include "renderer/core/errors/error.h"
 #include "renderer/core/files/json_node.h"
 #include "renderer/mesh/files/gltf_writer.h"

@@ -12,7 +12,7 @@
 
 #include <glm/geometric.hpp>
 
-#include "renderer/validation/bench_support.h"
+#include "renderer/validation/harness/bench_support.h"
 #include "renderer/render/trace/light_choice.h"
 #include "renderer/render/trace/rng.h"
 #include "renderer/spectral/spectra/units.h"

@@ -4,9 +4,9 @@
 #include <cmath>
 #include <cstdio>
 
-#include "renderer/validation/bench_check.h"
-#include "renderer/validation/closed_form_cases.h"
-#include "renderer/validation/mcml.h"
+#include "renderer/validation/harness/bench_check.h"
+#include "renderer/validation/cases/closed_form_cases.h"
+#include "renderer/validation/references/mcml.h"
 #include "renderer/cli/commands.h"
 #include "renderer/core/errors/error.h"
 

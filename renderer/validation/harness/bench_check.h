@@ -1,6 +1,6 @@
 // Benchmark cases whose answer is a list of numbers, each checked against a reference (a closed
-// form or MCML) with its own tolerance: the layered-tissue cases (renderer/validation/layered_cases.cpp)
-// and one case per MCML slab (renderer/validation/mcml.h). Image cases with per-pixel references are in
+// form or MCML) with its own tolerance: the layered-tissue cases (renderer/validation/cases/layered_cases.cpp)
+// and one case per MCML slab (renderer/validation/references/mcml.h). Image cases with per-pixel references are in
 // closed_form_cases.h.
 #pragma once
 #include <cstdint>

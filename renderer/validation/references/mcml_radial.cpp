@@ -7,7 +7,7 @@
 #include <cmath>
 #include <cstdio>
 
-#include "renderer/validation/mcml.h"
+#include "renderer/validation/references/mcml.h"
 #include "renderer/render/spatial/stack_profiles.h"
 #include "renderer/spectral/spectra/units.h"
 

@@ -1,4 +1,4 @@
-#include "renderer/validation/mcml.h"
+#include "renderer/validation/references/mcml.h"
 
 #include <tbb/parallel_for.h>
 

@@ -11,7 +11,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "renderer/validation/bench_result.h"
+#include "renderer/validation/harness/bench_result.h"
 #include "renderer/scene/scene.h"
 
 namespace ofl {

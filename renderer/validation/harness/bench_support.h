@@ -10,7 +10,7 @@
 #include <glm/vec3.hpp>
 #include <nlohmann/json.hpp>
 
-#include "renderer/validation/bench_result.h"
+#include "renderer/validation/harness/bench_result.h"
 #include "renderer/render/render_job.h"
 
 namespace ofl::bench {

@@ -21,11 +21,11 @@
 
 #include <glm/geometric.hpp>
 
-#include "renderer/validation/bench_check.h"
-#include "renderer/validation/bench_support.h"
-#include "renderer/validation/closed_form_cases.h"
-#include "renderer/validation/mcml.h"
-#include "renderer/validation/spatial_cases.h"
+#include "renderer/validation/harness/bench_check.h"
+#include "renderer/validation/harness/bench_support.h"
+#include "renderer/validation/cases/closed_form_cases.h"
+#include "renderer/validation/references/mcml.h"
+#include "renderer/validation/cases/spatial_cases.h"
 #include "renderer/core/errors/error.h"
 #include "renderer/core/files/json_node.h"
 #include "renderer/render/integrator/layered_bsdf.h"

@@ -1,7 +1,7 @@
 // Validation of the layered-tissue random walk against MCML (Wang, Jacques & Zheng, Comput Methods
 // Programs Biomed 47:131, 1995), the reference code of tissue optics. Reads MCML's input (.mci)
 // and output (.mco) files, runs the same slab through oralfluor's walk (renderer/render/
-// stack_walk.h, importance mode: photons from a normally incident pencil beam, one wavelength)
+// stack/stack_walk.h, importance mode: photons from a normally incident pencil beam, one wavelength)
 // and compares specular and diffuse reflectance, transmittance and the fraction absorbed in each
 // layer. MCML's units are kept at this boundary (cm, 1/cm); the walk works in mm.
 #pragma once
@@ -13,7 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "materials/layered.h"
-#include "renderer/validation/bench_check.h"
+#include "renderer/validation/harness/bench_check.h"
 
 namespace ofl {
 
@@ -73,7 +73,7 @@ std::vector<BenchCheck> compare_with_mcml(const SlabResult& ours, const McmlOutp
 // A bench result for a slab: the checks when MCML's output is given, the numbers in `extra`.
 CheckCaseResult mcml_case(const McmlInput& in, const McmlOutput* ref, long long photons, uint64_t seed);
 
-// Lateral transport (renderer/validation/mcml_radial.cpp): the slab's lateral profiles filled as the
+// Lateral transport (renderer/validation/references/mcml_radial.cpp): the slab's lateral profiles filled as the
 // renderer's spatial transport fills them (renderer/render/spatial/stack_profiles.h), at normal
 // incidence, in 8 independent batches; the diffuse reflectance within each of `radii_mm` with its
 // standard error, and the radii holding 50 % and 90 % of all of it.

@@ -1,5 +1,5 @@
 // The independent forward photon Monte Carlo (see forward_mc.h).
-#include "renderer/validation/forward_mc.h"
+#include "renderer/validation/references/forward_mc.h"
 
 #include <algorithm>
 #include <cmath>

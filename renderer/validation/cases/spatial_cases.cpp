@@ -1,5 +1,5 @@
 // Validation of the spatial transport of layered tissue (docs/layered-tissue.md, "Lateral
-// transport") against the independent forward photon Monte Carlo of renderer/validation/forward_mc.h:
+// transport") against the independent forward photon Monte Carlo of renderer/validation/references/forward_mc.h:
 //   spatial_fluorescence_pencil  a scattering, fluorescent two-layer slab under a normal pencil beam
 //     at 405 nm: the fluorescence exitance per ring around the beam (its share of all of it) as the
 //     spatial transport's tables give it (excitation leg convolved with emission leg, summed over
@@ -10,11 +10,11 @@
 #include <cmath>
 #include <cstdio>
 
-#include "renderer/validation/bench_check.h"
-#include "renderer/validation/bench_support.h"
-#include "renderer/validation/closed_form_cases.h"
-#include "renderer/validation/forward_mc.h"
-#include "renderer/validation/spatial_cases.h"
+#include "renderer/validation/harness/bench_check.h"
+#include "renderer/validation/harness/bench_support.h"
+#include "renderer/validation/cases/closed_form_cases.h"
+#include "renderer/validation/references/forward_mc.h"
+#include "renderer/validation/cases/spatial_cases.h"
 #include "renderer/core/files/json_node.h"
 #include "renderer/image/image_file.h"
 #include "renderer/render/integrator/render_tables.h"

@@ -8,8 +8,8 @@
 #include <Eigen/Dense>
 #include <glm/geometric.hpp>
 
-#include "renderer/validation/bench_support.h"
-#include "renderer/validation/closed_form_cases.h"
+#include "renderer/validation/harness/bench_support.h"
+#include "renderer/validation/cases/closed_form_cases.h"
 #include "renderer/spectral/spectra/units.h"
 
 namespace ofl {

@@ -1,4 +1,4 @@
-#include "renderer/validation/bench_support.h"
+#include "renderer/validation/harness/bench_support.h"
 
 #include <algorithm>
 #include <chrono>

@@ -1,5 +1,5 @@
-#include "renderer/validation/closed_form_cases.h"
-#include "renderer/validation/bench_support.h"
+#include "renderer/validation/cases/closed_form_cases.h"
+#include "renderer/validation/harness/bench_support.h"
 
 #include <algorithm>
 #include <chrono>

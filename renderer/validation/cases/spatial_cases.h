@@ -1,10 +1,10 @@
-// Validation cases of the spatial transport of layered tissue (renderer/validation/spatial_cases.cpp,
+// Validation cases of the spatial transport of layered tissue (renderer/validation/cases/spatial_cases.cpp,
 // docs/layered-tissue.md "Lateral transport"), run by `oralfluor bench <case>` and the tests.
 #pragma once
 #include <cstdint>
 #include <string>
 
-#include "renderer/validation/bench_check.h"
+#include "renderer/validation/harness/bench_check.h"
 
 namespace ofl {
 
