@@ -2,7 +2,7 @@
 //   lambertian.cpp   {"type": "lambertian", "reflectance": <spectrum>, "emission": <spectrum>}
 //   fluorescent.cpp  {"type": "fluorescent", "reflectance": ..., "fluorophores": [{"name": "FAD",
 //                     "concentration": 0.02, "texture": "map.png"}, {"eem": "my.csv", ...}]}
-//   coated.cpp       {"type": "coated", "base": <lambertian|fluorescent>, "ior": 1.33, "roughness": 0.15}
+//   coated_type.cpp  {"type": "coated", "base": <lambertian|fluorescent>, "ior": 1.33, "roughness": 0.15}
 //   tissue.cpp       {"type": "tissue" | "teeth", "preset": ...}: oral presets built from shipped
 //                     measurements (see its header)
 //   regions.cpp      {"type": "regions", "base": ..., "regions": [...]}: other materials painted on one mesh
