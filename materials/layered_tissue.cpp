@@ -1,4 +1,4 @@
-// {"type": "layered_tissue", ...}: oral mucosa as a stack of scattering layers (materials/layered.h).
+// {"type": "layered_tissue", ...}: oral mucosa as a stack of scattering layers (materials/description/layered.h).
 //   "preset": "dorsal_tongue"        start from assets/tissues/layered/<preset>.json; the fields below
 //                                    then override it ("layers" as an object keyed by layer name
 //                                    merges into the preset's layers, "fluorophores" inside a layer

@@ -7,7 +7,7 @@
 //                     measurements (see its header)
 //   regions.cpp      {"type": "regions", "base": ..., "regions": [...]}: other materials painted on one mesh
 //   layered_tissue.cpp  {"type": "layered_tissue", "layers": [...]}: scattering layers with volume
-//                     fluorescence under a wet coating (materials/layered.h)
+//                     fluorescence under a wet coating (materials/description/layered.h)
 // A material whose photon albedo R(ex) + sum_k c_k integral Phi_k(em, ex) d em exceeds 1 at any
 // excitation wavelength creates energy and is rejected.
 #pragma once
@@ -16,7 +16,7 @@
 #include <string>
 #include <vector>
 
-#include "materials/material.h"
+#include "materials/description/material.h"
 #include "renderer/core/files/json_node.h"
 #include "renderer/image/texture.h"
 #include "renderer/spectral/chromophores/eem.h"
@@ -53,7 +53,7 @@ int load_texture(const JsonNode& node, MaterialContext& ctx);
 int load_fluorophore_eem(const JsonNode& entry, MaterialContext& ctx, std::string* name);
 // A fluorophore's "texture": "map.png" | {"file": ..., "offset": 1, "scale": -0.5}.
 void parse_fluorophore_texture(const JsonNode& t, MaterialContext& ctx, int* texture, double* offset, double* scale);
-// {"type": "layered_tissue", ...}: see materials/layered.h and docs/scene-format.md.
+// {"type": "layered_tissue", ...}: see materials/description/layered.h and docs/scene-format.md.
 Material parse_layered_tissue(const JsonNode& node, MaterialContext& ctx);
 // {"type": "regions", "base": <material name>, "regions": [{"mask": <png>, "material": <name>}]}.
 Material parse_regions(const JsonNode& node, MaterialContext& ctx);

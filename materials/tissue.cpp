@@ -34,7 +34,7 @@
 #include <set>
 
 #include "materials/material_parser.h"
-#include "materials/diagnosis_corrections.h"
+#include "materials/corrections/diagnosis_corrections.h"
 #include "renderer/spectral/chromophores/hemoglobin.h"
 #include "renderer/core/files/asset_path.h"
 #include "renderer/core/errors/error.h"

@@ -4,7 +4,7 @@
 
 #include <cmath>
 
-#include "materials/coated.h"
+#include "materials/interfaces/coated.h"
 #include "renderer/core/files/json_node.h"
 #include "renderer/render/render_job.h"
 #include "renderer/render/trace/rng.h"

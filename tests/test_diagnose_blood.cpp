@@ -4,7 +4,7 @@
 
 #include <cmath>
 
-#include "materials/diagnosis_corrections.h"
+#include "materials/corrections/diagnosis_corrections.h"
 #include "renderer/spectral/chromophores/fluorophore_library.h"
 #include "renderer/spectral/chromophores/hemoglobin.h"
 

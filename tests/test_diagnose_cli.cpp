@@ -12,7 +12,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "materials/diagnosis_corrections.h"
+#include "materials/corrections/diagnosis_corrections.h"
 
 namespace fs = std::filesystem;
 

@@ -12,7 +12,7 @@
 
 #include "renderer/diagnose/selection/cross_validation.h"
 #include "renderer/diagnose/report/diagnose_report.h"
-#include "materials/diagnosis_corrections.h"
+#include "materials/corrections/diagnosis_corrections.h"
 #include "renderer/diagnose/spectra/render_loop.h"
 #include "tests/support/synthetic.h"
 

@@ -1,4 +1,4 @@
-// Layered tissue (materials/layered.h): the walk's sampling routines against their densities, the
+// Layered tissue (materials/description/layered.h): the walk's sampling routines against their densities, the
 // interfaces against Fresnel and Snell, the BSDF against closed forms (fluorescent slab, furnace,
 // Lambertian under a film, the thin-layer limit), every MCML slab, and input errors.
 #include <gtest/gtest.h>

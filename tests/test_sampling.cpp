@@ -3,7 +3,7 @@
 
 #include <glm/geometric.hpp>
 
-#include "materials/coated.h"
+#include "materials/interfaces/coated.h"
 #include "renderer/render/trace/rng.h"
 #include "renderer/render/trace/sampling.h"
 #include "tests/stat_utils.h"

@@ -10,7 +10,7 @@
 
 #include <glm/vec3.hpp>
 
-#include "materials/material.h"
+#include "materials/description/material.h"
 #include "renderer/core/files/json_node.h"
 #include "renderer/scene/camera_spec.h"
 #include "renderer/scene/led_light.h"

@@ -5,7 +5,7 @@
 #pragma once
 #include <algorithm>
 
-#include "materials/material.h"
+#include "materials/description/material.h"
 #include "renderer/render/material/material_tables.h"
 #include "renderer/render/trace/rng.h"
 

@@ -7,7 +7,7 @@
 #pragma once
 #include <vector>
 
-#include "materials/coated.h"
+#include "materials/interfaces/coated.h"
 #include "renderer/render/material/stack_tables.h"
 
 namespace ofl {

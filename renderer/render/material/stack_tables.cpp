@@ -8,7 +8,7 @@ namespace ofl {
 namespace {
 
 // mua_f(ex) = mua_peak a(ex) / a_peak and sigma_f(em <- ex) = mua_peak QY Phi(em, ex) / a_peak
-// (materials/layered.h).
+// (materials/description/layered.h).
 StackFluorophoreTables fluorophore_tables(const LayerFluorophore& f, const GridEem& eem, bool emit) {
   const int n = eem.n();
   const double step = eem.grid.step_nm;

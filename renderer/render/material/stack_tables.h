@@ -8,8 +8,8 @@
 #include <utility>
 #include <vector>
 
-#include "materials/dielectric_interface.h"
-#include "materials/layered.h"
+#include "materials/interfaces/dielectric_interface.h"
+#include "materials/description/layered.h"
 #include "renderer/spectral/chromophores/eem.h"
 
 namespace ofl {

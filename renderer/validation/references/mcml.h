@@ -12,7 +12,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "materials/layered.h"
+#include "materials/description/layered.h"
 #include "renderer/validation/harness/bench_check.h"
 
 namespace ofl {

@@ -1,4 +1,4 @@
-#include "materials/diagnosis_corrections.h"
+#include "materials/corrections/diagnosis_corrections.h"
 
 #include <cmath>
 

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "materials/layered.h"
+#include "materials/description/layered.h"
 
 namespace ofl {
 
@@ -60,7 +60,7 @@ struct Material {
   Coating coating;
   std::vector<double> emission;           // Lambertian emitted radiance, W sr^-1 m^-2 nm^-1, empty = none
   int reflectance_texture = -1;           // optional grayscale map multiplying R
-  // Layered tissue (materials/layered.h): when enabled the material is the stack; `reflectance` and
+  // Layered tissue (materials/description/layered.h): when enabled the material is the stack; `reflectance` and
   // `fluorophores` then describe its opaque base (StackBottom::kBase) and are otherwise unused.
   LayerStack stack;
   // A "regions" material only dispatches: the first region whose mask exceeds its threshold at the

@@ -1,4 +1,4 @@
-#include "materials/dielectric_interface.h"
+#include "materials/interfaces/dielectric_interface.h"
 
 #include <algorithm>
 #include <cmath>

@@ -18,7 +18,7 @@
 
 #include <glm/vec3.hpp>
 
-#include "materials/coated.h"
+#include "materials/interfaces/coated.h"
 
 namespace ofl {
 

@@ -1,4 +1,4 @@
-#include "materials/coated.h"
+#include "materials/interfaces/coated.h"
 
 #include <algorithm>
 #include <cmath>
