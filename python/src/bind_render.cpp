@@ -60,7 +60,7 @@ py::object scene_info(const py::object& doc, const std::string& name) {
   return from_json(j);
 }
 
-// The CLI's ranges for render's overrides (renderer/cli/cmd_render.cpp, --spp/--width/--height).
+// The CLI's ranges for render's overrides (renderer/cli/images/cmd_render.cpp, --spp/--width/--height).
 SceneOverrides overrides(const py::object& spp, const py::object& seed, const py::object& width, const py::object& height) {
   SceneOverrides ov;
   if (auto v = opt_int_arg(spp, "spp", 1, 1 << 24)) ov.spp = int(*v);

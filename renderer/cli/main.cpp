@@ -7,7 +7,7 @@
 #include <memory>
 #include <thread>
 
-#include "renderer/cli/commands.h"
+#include "renderer/cli/shared/commands.h"
 #include "renderer/core/errors/error.h"
 #include "renderer/core/errors/message_text.h"
 #include "renderer/core/process/memory_limit.h"

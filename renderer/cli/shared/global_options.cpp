@@ -1,4 +1,4 @@
-#include "renderer/cli/commands.h"
+#include "renderer/cli/shared/commands.h"
 
 #include <cerrno>
 #include <cmath>

@@ -4,8 +4,8 @@
 #include <cstdio>
 #include <memory>
 
-#include "renderer/cli/cmd_mesh_parts.h"
-#include "renderer/cli/commands.h"
+#include "renderer/cli/assets/cmd_mesh_parts.h"
+#include "renderer/cli/shared/commands.h"
 #include "renderer/core/errors/error.h"
 #include "renderer/mesh/files/gltf_reader.h"
 #include "renderer/mesh/files/obj_reader.h"

@@ -4,7 +4,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "renderer/cli/commands.h"
+#include "renderer/cli/shared/commands.h"
 #include "renderer/spectral/chromophores/fluorophore_library.h"
 
 namespace ofl {

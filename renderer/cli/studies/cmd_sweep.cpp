@@ -6,7 +6,7 @@
 #include <optional>
 #include <cstdio>
 
-#include "renderer/cli/commands.h"
+#include "renderer/cli/shared/commands.h"
 #include "renderer/core/errors/error.h"
 #include "renderer/sweep/design/sweep_spec.h"
 #include "renderer/sweep/sweep_runner.h"

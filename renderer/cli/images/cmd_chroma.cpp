@@ -15,7 +15,7 @@
 #include "renderer/camera/optics/lens_optics.h"
 #include "renderer/camera/raw/raw_writer.h"
 #include "renderer/camera/optics/optics.h"
-#include "renderer/cli/commands.h"
+#include "renderer/cli/shared/commands.h"
 #include "renderer/core/files/asset_path.h"
 #include "renderer/core/errors/error.h"
 #include "renderer/image/spectral_exr.h"

@@ -6,8 +6,8 @@
 #include <limits>
 #include <memory>
 
-#include "renderer/cli/cmd_mesh_parts.h"
-#include "renderer/cli/commands.h"
+#include "renderer/cli/assets/cmd_mesh_parts.h"
+#include "renderer/cli/shared/commands.h"
 #include "renderer/core/errors/error.h"
 #include "renderer/mesh/files/gltf_writer.h"
 #include "renderer/mesh/geometry/mesh_measure.h"

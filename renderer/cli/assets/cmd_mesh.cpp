@@ -8,8 +8,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "renderer/cli/cmd_mesh_parts.h"
-#include "renderer/cli/commands.h"
+#include "renderer/cli/assets/cmd_mesh_parts.h"
+#include "renderer/cli/shared/commands.h"
 #include "renderer/core/errors/error.h"
 #include "renderer/image/png_writer.h"
 #include "renderer/mesh/files/gltf_reader.h"

@@ -8,7 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "renderer/cli/commands.h"
+#include "renderer/cli/shared/commands.h"
 #include "renderer/core/errors/error.h"
 #include "renderer/image/spectral_exr.h"
 #include "renderer/camera/description/camera_description.h"

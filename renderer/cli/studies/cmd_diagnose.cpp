@@ -4,7 +4,7 @@
 #include <cstdio>
 #include <memory>
 
-#include "renderer/cli/commands.h"
+#include "renderer/cli/shared/commands.h"
 #include "renderer/core/errors/error.h"
 #include "renderer/diagnose/diagnose_job.h"
 

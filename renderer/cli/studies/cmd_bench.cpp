@@ -7,7 +7,7 @@
 #include "renderer/validation/harness/bench_check.h"
 #include "renderer/validation/cases/closed_form_cases.h"
 #include "renderer/validation/references/mcml.h"
-#include "renderer/cli/commands.h"
+#include "renderer/cli/shared/commands.h"
 #include "renderer/core/errors/error.h"
 
 namespace ofl {

@@ -10,7 +10,7 @@
 #include "renderer/camera/raw/camera_color.h"
 #include "renderer/camera/camera_pipeline.h"
 #include "renderer/core/files/atomic_file.h"
-#include "renderer/cli/commands.h"
+#include "renderer/cli/shared/commands.h"
 #include "renderer/core/errors/error.h"
 #include "renderer/core/process/progress.h"
 #include "renderer/image/png_writer.h"

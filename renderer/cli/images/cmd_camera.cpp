@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "renderer/camera/camera_pipeline.h"
-#include "renderer/cli/commands.h"
+#include "renderer/cli/shared/commands.h"
 #include "renderer/core/errors/error.h"
 #include "renderer/core/process/progress.h"
 #include "renderer/image/spectral_exr.h"

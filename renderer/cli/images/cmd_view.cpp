@@ -3,7 +3,7 @@
 // cursor: previews, spectra at a pixel, region statistics (renderer/view/view_page.h, docs/view.md).
 #include <cstdio>
 
-#include "renderer/cli/commands.h"
+#include "renderer/cli/shared/commands.h"
 #include "renderer/core/files/atomic_file.h"
 #include "renderer/core/errors/error.h"
 #include "renderer/view/view_image.h"

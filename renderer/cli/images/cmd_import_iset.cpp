@@ -9,7 +9,7 @@
 
 #include "renderer/core/files/atomic_file.h"
 #include "renderer/camera/description/camera_description.h"
-#include "renderer/cli/commands.h"
+#include "renderer/cli/shared/commands.h"
 #include "renderer/core/errors/error.h"
 #include "renderer/image/spectral_exr.h"
 #include "renderer/interop/iset_scene.h"
