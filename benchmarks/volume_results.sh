@@ -24,8 +24,12 @@ for c in "${cases[@]}"; do
   samples=16000000
   case "$c" in *_fluorescence) samples=4000000 ;; esac
   echo "$(date -u +%H:%M:%S) $c --samples $samples --seed 7" >&2
-  "$build/oralfluor" bench "$c" --samples "$samples" --seed 7 --json > "$runs/$c.json.part" 2> "$runs/$c.err" || true
-  mv "$runs/$c.json.part" "$runs/$c.json"
+  if "$build/oralfluor" bench "$c" --samples "$samples" --seed 7 --json > "$runs/$c.json.part" 2> "$runs/$c.err" ||
+     [ -s "$runs/$c.json.part" ]; then  # (a failed check still writes its result; exit 1)
+    mv "$runs/$c.json.part" "$runs/$c.json"
+  else
+    echo "$c: no result ($(tail -1 "$runs/$c.err"))" >&2
+  fi
 done
 python3 - "$runs" "$root" "$build" "${cases[@]}" > "$out" <<'PY'
 import json, os, subprocess, sys
