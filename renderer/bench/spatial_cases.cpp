@@ -401,9 +401,11 @@ Contrast rendered_contrast(const LesionCase& c, const std::string& transport, in
 // the normal (what the camera straight above sees: lesion and healthy tissue send their light into
 // different angles, so exitance would not do), per unit area of ring, over the healthy tissue's (a
 // run without the disc). For reflectance each band is run on its own, the source restricted to the
-// band's bins (the light is flat); fluorescence bands share one run of the 405 nm LED. The profile of
-// the light leaving in all directions is kept beside.
-Contrast forward_contrast(const LesionCase& c, long long photons, uint64_t seed, nlohmann::json* all_directions) {
+// band's bins (the light is flat); fluorescence bands share one run of the 405 nm LED. The profiles of
+// the light leaving in all directions and within 14 degrees of the normal (nearer what the camera
+// straight above sees, from fewer photons) are kept beside.
+Contrast forward_contrast(const LesionCase& c, long long photons, uint64_t seed, nlohmann::json* all_directions,
+                          nlohmann::json* narrow_cone) {
   const auto edges = lesion_rings(c.a_mm);
   const json spd = lesion_light(c)["spd"];
   Scene sc = bench::stack_bench_scene(smooth_preset(c.outside, "table", 0), spd, 380, 700);
@@ -437,7 +439,8 @@ Contrast forward_contrast(const LesionCase& c, long long photons, uint64_t seed,
   // together (docs/layered-tissue.md, "How it was checked").
   ForwardSetup hs = s;
   hs.radius_mm = 0;
-  std::vector<std::vector<RingPair>> batches(bands.size()), cones(bands.size());
+  // Per band, the batches' ring sums: all directions, within 37 degrees, within 14 degrees.
+  std::vector<std::vector<RingPair>> batches(bands.size()), cones(bands.size()), narrows(bands.size());
   const size_t runs = c.fluorescence ? 1 : bands.size();
   for (size_t run = 0; run < runs; ++run) {
     std::vector<double> source;
@@ -450,15 +453,17 @@ Contrast forward_contrast(const LesionCase& c, long long photons, uint64_t seed,
       const ForwardTally h = run_forward_mc(hs, np, batch_seed);
       for (size_t i = 0; i < bands.size(); ++i) {
         if (!c.fluorescence && i != run) continue;
-        for (bool cone : {false, true}) {
-          const auto& tt = c.fluorescence ? (cone ? t.fluor_cone : t.fluor) : (cone ? t.elastic_cone : t.elastic);
-          const auto& hh = c.fluorescence ? (cone ? h.fluor_cone : h.fluor) : (cone ? h.elastic_cone : h.elastic);
+        for (int cone : {0, 1, 2}) {
+          auto pick = [&](const ForwardTally& x) -> const std::vector<double>& {
+            if (c.fluorescence) return cone == 0 ? x.fluor : cone == 1 ? x.fluor_cone : x.fluor_narrow;
+            return cone == 0 ? x.elastic : cone == 1 ? x.elastic_cone : x.elastic_narrow;
+          };
           RingPair v;
           for (size_t k = 0; k < rings; ++k) {
-            v.lesion.push_back(band_sum(tt, k, i));
-            v.healthy.push_back(band_sum(hh, k, i));
+            v.lesion.push_back(band_sum(pick(t), k, i));
+            v.healthy.push_back(band_sum(pick(h), k, i));
           }
-          (cone ? cones : batches)[i].push_back(v);
+          (cone == 0 ? batches : cone == 1 ? cones : narrows)[i].push_back(v);
         }
       }
     }
@@ -468,9 +473,11 @@ Contrast forward_contrast(const LesionCase& c, long long photons, uint64_t seed,
     const RingStats st = ratio_stats(cones[i]);
     out.c.push_back(st.mean);
     out.se.push_back(st.se);
-    const RingStats all = ratio_stats(batches[i]);
+    const RingStats all = ratio_stats(batches[i]), narrow = ratio_stats(narrows[i]);
     (*all_directions)["contrast"].push_back(all.mean);
     (*all_directions)["se"].push_back(all.se);
+    (*narrow_cone)["contrast"].push_back(narrow.mean);
+    (*narrow_cone)["se"].push_back(narrow.se);
   }
   return out;
 }
@@ -493,8 +500,8 @@ CheckCaseResult spatial_lesion_disc(const std::string& inside, double a_mm, bool
   // (at full counts its noise is still below the Monte Carlo's).
   const int spp = int(std::clamp<long long>(samples / (transport == "volume" ? 400000 : 20000), 4, 4096));
   const long long profile_photons = std::max<long long>(2000, samples / 200);
-  nlohmann::json all = {{"contrast", json::array()}, {"se", json::array()}};
-  const Contrast mc = forward_contrast(c, samples, seed, &all);
+  nlohmann::json all = {{"contrast", json::array()}, {"se", json::array()}}, narrow = all;
+  const Contrast mc = forward_contrast(c, samples, seed, &all, &narrow);
   const Contrast sp = rendered_contrast(c, transport, spp, seed, profile_photons);
   const Contrast pf = rendered_contrast(c, "table", std::max(4, spp / 8), seed, 0);
   const auto edges = lesion_rings(a_mm);
@@ -508,7 +515,7 @@ CheckCaseResult spatial_lesion_disc(const std::string& inside, double a_mm, bool
       r.checks.push_back({q, sp.c[i][k], ref, mc_tolerance(0.02, ref, se)});
     }
   r.extra["ring_edges_mm"] = edges;
-  r.extra["forward_mc"] = {{"contrast", mc.c}, {"se", mc.se}, {"all_directions", all}};
+  r.extra["forward_mc"] = {{"contrast", mc.c}, {"se", mc.se}, {"all_directions", all}, {"within_14_degrees", narrow}};
   r.extra[transport] = {{"contrast", sp.c}, {"se", sp.se}};
   r.extra["position_free"] = {{"contrast", pf.c}, {"se", pf.se}};
   return r;
