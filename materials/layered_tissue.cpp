@@ -277,7 +277,8 @@ void parse_stack(const JsonNode& m, Material& out, MaterialContext& ctx) {
     if (v == "table") st.transport = StackTransport::kTable;
     else if (v == "walk") st.transport = StackTransport::kWalk;
     else if (v == "spatial") st.transport = StackTransport::kSpatial;
-    else t->fail("expected \"table\", \"spatial\" or \"walk\"");
+    else if (v == "volume") st.transport = StackTransport::kVolume;
+    else t->fail("expected \"table\", \"spatial\", \"walk\" or \"volume\"");
   }
   if (auto t = m.find("profile_photons")) {
     if (st.transport != StackTransport::kSpatial) t->fail("only a \"spatial\" transport has lateral profiles to fill");

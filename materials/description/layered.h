@@ -47,8 +47,11 @@ struct TissueLayer {
 enum class StackTransport {
   kTable,  // a response table filled once by the walk at scene load (renderer/render/stack/stack_response.h)
   kWalk,    // the random walk at every shading point (the reference)
-  kSpatial  // the table for the directional part and lateral profiles for where light comes back out
+  kSpatial, // the table for the directional part and lateral profiles for where light comes back out
             // (renderer/render/spatial/, docs/layered-tissue.md "Lateral transport")
+  kVolume   // the walk at every shading point with its lateral position tracked, in the material under
+            // it (regions resolved under every step): the reference for kSpatial across regions
+            // (renderer/render/integrator/layered_bsdf.h, docs/layered-tissue.md "The volume walk")
 };
 
 // What lies under the last layer.

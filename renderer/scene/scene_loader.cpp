@@ -2,7 +2,9 @@
 // "materials" (name -> material), "geometry" (list), "lights" (list). See docs/scene-format.md.
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <set>
+#include <string>
 
 #include <glm/geometric.hpp>
 
@@ -117,22 +119,56 @@ void parse_geometry(Scene& sc, const JsonNode& list) {
   }
 }
 
-bool spatial_transport(const Material& m) { return m.stack.enabled && m.stack.transport == StackTransport::kSpatial; }
+// How a material carries light sideways: 0 not at all (a surface, "table", "walk"), 1 by the
+// spatial transport's profiles, 2 by the volume walk.
+int lateral_transport(const Material& m) {
+  if (!m.stack.enabled) return 0;
+  if (m.stack.transport == StackTransport::kSpatial) return 1;
+  return m.stack.transport == StackTransport::kVolume ? 2 : 0;
+}
+
+// The volume walk moves sideways from one material's column into another's at the same depth: the
+// columns must end alike (both semi-infinite, or the same bottom at the same depth), or a walk could
+// stand below one column's opaque base or open bottom inside another's tissue.
+std::string column_end(const LayerStack& st) {
+  double depth = 0;
+  for (const auto& l : st.layers) depth += l.thickness_mm;
+  if (st.bottom == StackBottom::kSemiInfinite) return "semi-infinite";
+  char buf[96];
+  std::snprintf(buf, sizeof buf, "%s at %.6g mm", st.bottom == StackBottom::kBase ? "an opaque base" : "an open bottom", depth);
+  return buf;
+}
+
+void check_volume_columns(const Scene& sc, const Material& m, const JsonNode& node) {
+  const Material& base = sc.materials[m.regions_base];
+  for (size_t k = 0; k < m.regions.size(); ++k) {
+    const Material& r = sc.materials[m.regions[k].material];
+    if (column_end(r.stack) == column_end(base.stack)) continue;
+    node.at("regions").at(k).at("material").fail("\"" + r.name + "\" ends in " + column_end(r.stack) + " but \"" + base.name +
+                                                 "\" in " + column_end(base.stack) +
+                                                 ": the \"volume\" transport walks from one into the other at the same depth, "
+                                                 "so their stacks must end alike");
+  }
+}
 
 // Light that travels sideways crosses from one region into the next only between materials that
-// carry it: either every material of a regions material uses the spatial transport, or none does.
+// carry it the same way: every material of a regions material uses the spatial transport, or every
+// one the volume walk, or none of them carries light sideways.
 void check_spatial_regions(const Scene& sc, const Material& m, const JsonNode& node) {
   const Material& base = sc.materials[m.regions_base];
   for (size_t k = 0; k < m.regions.size(); ++k) {
     const Material& r = sc.materials[m.regions[k].material];
-    if (spatial_transport(r) == spatial_transport(base)) continue;
-    const Material& sp = spatial_transport(r) ? r : base;
-    const Material& other = spatial_transport(r) ? base : r;
+    const int lr = lateral_transport(r), lb = lateral_transport(base);
+    if (lr == lb) continue;
+    const Material& sp = lr > lb ? r : base;
+    const Material& other = lr > lb ? base : r;
+    const std::string t = std::max(lr, lb) == 1 ? "spatial" : "volume";
     node.at("regions").at(k).at("material").fail(
-        "\"" + sp.name + "\" uses the \"spatial\" transport but \"" + other.name +
+        "\"" + sp.name + "\" uses the \"" + t + "\" transport but \"" + other.name +
         "\" does not: light travelling sideways between regions needs every material of \"" + m.name +
-        "\" to be layered_tissue with \"transport\": \"spatial\"");
+        "\" to be layered_tissue with \"transport\": \"" + t + "\"");
   }
+  if (lateral_transport(base) == 2) check_volume_columns(sc, m, node);
 }
 
 // "regions" materials name other materials: resolve them now that all are read. A region may not

@@ -1,5 +1,7 @@
 // Layered tissue at a path vertex (see layered_bsdf.h).
+#include <array>
 #include <cmath>
+#include <optional>
 
 #include <glm/geometric.hpp>
 
@@ -70,6 +72,16 @@ constexpr double kSubwalkMinRate = 0.001;
 // Unscattered LED transmittance below which direct excitation is evaluated only sometimes.
 constexpr double kDirectFloor = 1e-3;
 
+// Runs the scattered-excitation sub-walks of a volume walk (VolumeWalk below): from `s`, in the
+// material of the volume walk's slot `slot`, crossing into other materials as the camera walk does.
+class ExcitationWalks {
+ public:
+  virtual void sub_walk(WalkState& s, WalkLanes& lanes, double* acc, int slot) = 0;
+
+ protected:
+  ~ExcitationWalks() = default;
+};
+
 // Next-event estimation at every vertex of the walk, gathered into the camera path's lanes.
 //
 // Volume fluorescence excited by LED light is estimated at every collision of a lane (at its
@@ -89,6 +101,17 @@ class WalkNee {
           const StackWalker* sub_walker, Rng* rng)
       : st_(st), mt_(mt), fac_(fac), ls_(ls), c_(conn), shape_(shape), mis_(mis), n_(n), p_(&p),
         sub_walker_(sub_walker), rng_(rng), tex_(st.led_support[ls.group].size()) {}
+  // A sub-walk's visitor: next-event estimation of scattered light into `acc`, nothing else.
+  WalkNee(const StackTables& st, const MaterialTables& mt, const StackPointFactors& fac, const LightSample& ls,
+          const StackConnection& conn, const float* shape, double mis, int n, double* acc, Rng& rng)
+      : st_(st), mt_(mt), fac_(fac), ls_(ls), c_(conn), shape_(shape), mis_(mis), n_(n), acc_(acc), rng_(&rng) {}
+
+  // In a volume walk: the scattered-excitation sub-walks go sideways too, through `walks`, starting
+  // in the material of its slot `slot` (this visitor's).
+  void run_subwalks_in(ExcitationWalks* walks, int slot) {
+    volume_ = walks;
+    slot_ = slot;
+  }
 
   void moved(const glm::dvec3&, double) {}
 
@@ -234,8 +257,13 @@ class WalkNee {
     ss.depth = s.depth;
     ss.d = sample_uniform_sphere(rng_->next_double(), rng_->next_double());
     double acc[kWalkLanes] = {};
-    WalkNee inner(st_, mt_, fac_, ls_, c_, shape_, mis_, n_, acc, *rng_);
-    sub_walker_->walk(ss, sub, fac_, *rng_, inner);
+    if (volume_ != nullptr) {
+      ss.pos = s.pos;
+      volume_->sub_walk(ss, sub, acc, slot_);
+    } else {
+      WalkNee inner(st_, mt_, fac_, ls_, c_, shape_, mis_, n_, acc, *rng_);
+      sub_walker_->walk(ss, sub, fac_, *rng_, inner);
+    }
     for (int k = 0; k < lanes.count; ++k) {
       if (lanes.w[k] == 0) continue;
       const int em = lanes.wl[k];
@@ -249,11 +277,6 @@ class WalkNee {
       if (sum > 0) add(k, lanes.w[k] * sum / (kWalkLanes * rate), true);
     }
   }
-
-  // A sub-walk's visitor: next-event estimation of scattered light into `acc`, nothing else.
-  WalkNee(const StackTables& st, const MaterialTables& mt, const StackPointFactors& fac, const LightSample& ls,
-          const StackConnection& conn, const float* shape, double mis, int n, double* acc, Rng& rng)
-      : st_(st), mt_(mt), fac_(fac), ls_(ls), c_(conn), shape_(shape), mis_(mis), n_(n), acc_(acc), rng_(&rng) {}
 
   static int max_lane_wl(const WalkLanes& lanes) {
     int m = 0;
@@ -289,6 +312,8 @@ class WalkNee {
   PathLanes* p_ = nullptr;
   double* acc_ = nullptr;  // a sub-walk's sums per excitation lane
   const StackWalker* sub_walker_ = nullptr;
+  ExcitationWalks* volume_ = nullptr;  // a volume walk's sub-walks (null: position-free ones)
+  int slot_ = -1;
   Rng* rng_ = nullptr;
   std::vector<double> tex_;  // LED light reaching the current point, per emitting bin
 };
@@ -297,6 +322,155 @@ struct NoNee {
   void moved(const glm::dvec3&, double) {}
   void collision(const WalkState&, const LaneCoefficients&, const WalkLanes&) {}
   void base_vertex(const WalkState&, const WalkLanes&) {}
+};
+
+// A next-event visitor or none (a material without a valid light connection).
+struct NeeRef {
+  WalkNee* nee = nullptr;
+  void moved(const glm::dvec3&, double) {}
+  void collision(const WalkState& s, const LaneCoefficients& c, const WalkLanes& l) {
+    if (nee != nullptr) nee->collision(s, c, l);
+  }
+  void base_vertex(const WalkState& s, const WalkLanes& l) {
+    if (nee != nullptr) nee->base_vertex(s, l);
+  }
+};
+
+// The materials one volume walk can visit (a further one counts as the material the walk is in).
+constexpr int kMaxVolumeMaterials = 8;
+// The walk's lateral track is read every kLateralStep mm for a change of material, and a change
+// is located by bisection to kLateralPrecision mm; a flight parallel to the layers is read out to
+// kLateralReach mm.
+constexpr double kLateralStep = 0.01;
+constexpr double kLateralPrecision = 1e-6;
+constexpr double kLateralReach = 100.0;
+
+// The layer of `st` that holds `depth`, for a walk travelling with vertical component dz: on a
+// face, the layer the walk is moving into.
+int layer_at_depth(const StackTables& st, double depth, double dz) {
+  const int last = int(st.layers.size()) - 1;
+  for (int j = 0; j < last; ++j)
+    if (depth < st.layers[j].bottom || (depth == st.layers[j].bottom && dz > 0)) return j;
+  return last;
+}
+
+// The volume walk (layered_bsdf.h): the camera walk and its scattered-excitation sub-walks, each
+// run in the material under it and continued in the next where a flight crosses into it.
+class VolumeWalk final : public ExcitationWalks {
+ public:
+  VolumeWalk(const VolumeWalkContext& ctx, const LightSample& ls, const float* shape, double mis, int n, PathLanes& p,
+             Rng& rng)
+      : ctx_(ctx), ls_(ls), shape_(shape), mis_(mis), n_(n), p_(p), rng_(rng) {}
+
+  WalkResult camera_walk(WalkState& s, WalkLanes& lanes) {
+    return drive(s, lanes, slot_of(ctx_.material), false, [&](int k) { return NeeRef{mats_[k].nee ? &*mats_[k].nee : nullptr}; });
+  }
+
+  void sub_walk(WalkState& s, WalkLanes& lanes, double* acc, int slot) override {
+    std::array<std::optional<WalkNee>, kMaxVolumeMaterials> inner;
+    drive(s, lanes, slot, true, [&](int k) {
+      VolumeMaterial& vm = mats_[k];
+      if (!vm.conn || !vm.conn->valid) return NeeRef{};
+      if (!inner[k]) inner[k].emplace(vm.mt->stack, *vm.mt, vm.fac, ls_, *vm.conn, shape_, mis_, n_, acc, rng_);
+      return NeeRef{&*inner[k]};
+    });
+  }
+
+ private:
+  // One material's part of the walk, made when the walk first reaches it.
+  struct VolumeMaterial {
+    int id = -1;
+    const MaterialTables* mt = nullptr;
+    StackPointFactors fac;
+    std::optional<StackWalker> walker, sub_walker;
+    std::optional<StackConnection> conn;
+    std::optional<WalkNee> nee;  // the camera walk's next-event visitor (a valid connection only)
+  };
+
+  // Stops a flight where the material under it changes.
+  struct RegionLimit {
+    static constexpr bool kActive = true;
+    VolumeWalk& walk;
+    int slot;       // the material the flight is in
+    int next = -1;  // after a stop: the slot of the material beyond it
+    double limit(const WalkState& s, double t) {
+      const glm::dvec2 dxy(s.d.x, s.d.y);
+      const double speed = glm::length(dxy);  // lateral mm per mm of flight
+      if (!(speed > 1e-12)) return std::numeric_limits<double>::infinity();
+      const double tmax = std::min(t, kLateralReach / speed);
+      const int steps = std::max(1, int(std::ceil(tmax * speed / kLateralStep)));
+      double lo = 0;
+      for (int i = 1; i <= steps; ++i) {
+        const double hi = tmax * i / steps;
+        if (walk.slot_under(s.pos + hi * dxy, slot) == slot) {
+          lo = hi;
+          continue;
+        }
+        double a = lo, b = hi;
+        while ((b - a) * speed > kLateralPrecision) {
+          const double mid = 0.5 * (a + b);
+          (walk.slot_under(s.pos + mid * dxy, slot) == slot ? a : b) = mid;
+        }
+        next = walk.slot_under(s.pos + b * dxy, slot);
+        return b;
+      }
+      return std::numeric_limits<double>::infinity();
+    }
+  };
+
+  // The slot of the material under `pos`; `current` where there is none to walk in.
+  int slot_under(const glm::dvec2& pos, int current) {
+    const int k = slot_of(ctx_.under->material_at(pos));
+    return k < 0 ? current : k;
+  }
+
+  int slot_of(int id) {
+    for (int k = 0; k < count_; ++k)
+      if (mats_[k].id == id) return k;
+    if (id < 0 || id >= int(ctx_.materials->size()) || count_ == kMaxVolumeMaterials) return -1;
+    const MaterialTables& mt = (*ctx_.materials)[id];
+    if (!mt.stack.enabled || mt.stack.layers.empty()) return -1;
+    VolumeMaterial& vm = mats_[count_];
+    vm.id = id;
+    vm.mt = &mt;
+    vm.fac = stack_point_factors(mt.stack, *ctx_.textures, ctx_.uv);
+    vm.walker.emplace(mt.stack, mt, n_, WalkMode::kRadiance);
+    vm.sub_walker.emplace(vm.walker->without_reradiation());
+    if (ls_.valid) {
+      vm.conn.emplace(mt.stack, ls_.wi, rng_);
+      if (vm.conn->valid) {
+        vm.nee.emplace(mt.stack, mt, vm.fac, ls_, *vm.conn, shape_, mis_, n_, p_, &*vm.sub_walker, &rng_);
+        vm.nee->run_subwalks_in(this, count_);
+      }
+    }
+    return count_++;
+  }
+
+  // Walks from s in the material of `slot`, on into the next wherever a flight crosses into it.
+  template <class VisitorAt>
+  WalkResult drive(WalkState& s, WalkLanes& lanes, int slot, bool sub, VisitorAt&& visitor_at) {
+    for (;;) {
+      VolumeMaterial& vm = mats_[slot];
+      const StackWalker& w = sub ? *vm.sub_walker : *vm.walker;
+      NeeRef v = visitor_at(slot);
+      if (ctx_.under == nullptr) return w.walk(s, lanes, vm.fac, rng_, v);
+      RegionLimit lim{*this, slot};
+      WalkResult r = w.walk(s, lanes, vm.fac, rng_, v, lim);
+      if (r.end != WalkEnd::kRegion) return r;
+      slot = lim.next;
+      s.layer = layer_at_depth(mats_[slot].mt->stack, s.depth, s.d.z);
+    }
+  }
+
+  const VolumeWalkContext& ctx_;
+  const LightSample& ls_;
+  const float* shape_;
+  double mis_;
+  int n_;
+  PathLanes& p_;
+  Rng& rng_;
+  std::array<VolumeMaterial, kMaxVolumeMaterials> mats_;
+  int count_ = 0;
 };
 
 }  // namespace
@@ -314,7 +488,7 @@ StackPointFactors stack_point_factors(const StackTables& st, const std::vector<T
 
 LayeredScatter layered_scatter(const MaterialTables& mt, const StackPointFactors& fac, const glm::dvec3& wo,
                                const LightSample& ls, const std::vector<std::vector<float>>& light_shapes, int n,
-                               PathLanes& p, Rng& rng) {
+                               PathLanes& p, Rng& rng, const VolumeWalkContext* volume) {
   const StackTables& st = mt.stack;
   const double n0 = st.layers[0].ior;
   // The density MIS uses for "the stack's BSDF": the top lobe (rough tops) mixed with a cosine lobe.
@@ -357,7 +531,10 @@ LayeredScatter layered_scatter(const MaterialTables& mt, const StackPointFactors
     WalkState s;
     s.d = entry.dir;
     WalkResult res;
-    if (ls.valid) {
+    if (volume != nullptr) {
+      VolumeWalk vw(*volume, ls, ls.valid ? light_shapes[ls.group].data() : nullptr, mis, n, p, rng);
+      res = vw.camera_walk(s, lanes);
+    } else if (ls.valid) {
       StackConnection conn(st, ls.wi, rng);
       if (conn.valid) {
         StackWalker sub_walker = walker.without_reradiation();

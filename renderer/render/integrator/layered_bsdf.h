@@ -16,6 +16,15 @@
 //    the light absorbed at that point by each fluorophore, summed over the light's emitting bins
 //    (deterministic direct excitation, no MIS, as at surfaces).
 // 4. The continuation is the top reflection, or the walk's exit.
+// With transport "volume" the same walk keeps its lateral position in the vertex's tangent plane and
+// runs in the material under it (LateralMaterials): where a flight passes from one `regions`
+// material into another the walk stops at the crossing and goes on in the other's stack, at the same
+// depth and in the same direction (no refraction at the side walls between regions). Next-event
+// estimation at a collision goes up through the layers of the material under the collision, with
+// the vertex's light sample (the light taken as the same over the walk's spread); fluorescence
+// excited by scattered light walks sideways too (its sub-walks are volume walks from the
+// collision). The walk's exit continues the path from the vertex. docs/layered-tissue.md,
+// "The volume walk".
 // MIS between next-event estimation and the walk's exits uses one fixed function of the directions
 // (the top lobe's pdf mixed with a cosine lobe) on both sides, so the weights sum to one on every
 // path that both strategies can make; a path that reflected off an interface after its last
@@ -34,6 +43,24 @@
 
 namespace ofl {
 
+// The material under a point of the volume walk (transport "volume").
+class LateralMaterials {
+ public:
+  virtual ~LateralMaterials() = default;
+  // The render tables' material index under the point of the vertex's tangent plane at offset
+  // `pos` (mm along the local frame's x and y axes).
+  virtual int material_at(const glm::dvec2& pos) const = 0;
+};
+
+// What the volume walk needs beyond the vertex's own material.
+struct VolumeWalkContext {
+  const std::vector<MaterialTables>* materials = nullptr;  // the render tables' materials
+  int material = -1;                                       // the vertex's (index into *materials)
+  const LateralMaterials* under = nullptr;                 // null: one material everywhere
+  const std::vector<Texture>* textures = nullptr;          // for the fluorophores' texture factors
+  glm::vec2 uv{0, 0};                                      // the vertex's texture coordinates
+};
+
 struct LayeredScatter {
   bool ok = false;         // the path continues
   glm::dvec3 wi{0, 0, 0};  // local continuation direction (z > 0)
@@ -44,9 +71,10 @@ struct LayeredScatter {
 
 // Adds the light sample's contribution (when valid) to the lanes' L/Lf and replaces the lanes'
 // throughput, wavelength and flags by the continuation's. wo is the local direction to the viewer.
+// With `volume`, the walk is the volume walk above.
 LayeredScatter layered_scatter(const MaterialTables& mt, const StackPointFactors& fac, const glm::dvec3& wo,
                                const LightSample& ls, const std::vector<std::vector<float>>& light_shapes, int n,
-                               PathLanes& p, Rng& rng);
+                               PathLanes& p, Rng& rng, const VolumeWalkContext* volume = nullptr);
 
 // The same with the stack's tabulated response (mt.stack.response, renderer/render/stack/stack_response.h)
 // instead of a walk: the top's specular lobe in closed form as above, the rest interpolated in the

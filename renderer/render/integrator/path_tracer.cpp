@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <optional>
 #if defined(__x86_64__) || defined(__i386__)
 #include <x86intrin.h>
 #endif
@@ -14,6 +15,34 @@
 #include <glm/geometric.hpp>
 
 namespace ofl {
+namespace {
+
+constexpr double kMmPerMetre = 1000.0;
+
+// The material under a point of a volume walk (transport "volume", layered_bsdf.h): the point of
+// the vertex's tangent plane at the walk's lateral offset, its texture coordinates extrapolated
+// along the plane from the hit triangle's, resolved as the surface resolves its `regions`. The
+// surface is taken as flat over the walk's spread.
+class TangentPlaneRegions final : public LateralMaterials {
+ public:
+  TangentPlaneRegions(const Scene& sc, int base, const SurfacePoint& sp, const Frame& f, const UvGradient& g)
+      : sc_(sc), base_(base), p_(sp.p), uv_(sp.uv), x_(f.x / kMmPerMetre), y_(f.y / kMmPerMetre), g_(g) {}
+  int material_at(const glm::dvec2& pos) const override {
+    const glm::dvec3 d = pos.x * x_ + pos.y * y_;
+    const glm::vec2 uv = uv_ + glm::vec2(float(glm::dot(g_.u, d)), float(glm::dot(g_.v, d)));
+    return resolve_material(sc_, base_, uv.x, uv.y, p_ + d);
+  }
+
+ private:
+  const Scene& sc_;
+  int base_;
+  glm::dvec3 p_;
+  glm::vec2 uv_;
+  glm::dvec3 x_, y_;  // the frame's tangent axes per mm
+  UvGradient g_;
+};
+
+}  // namespace
 
 const char* stage_name(int stage) {
   static const char* names[kStages] = {"camera rays", "intersection", "hit point and material", "light choice",
@@ -225,13 +254,27 @@ PathTracer::Continuation PathTracer::surface_vertex(const SurfacePoint& sp, cons
   return c;
 }
 
-PathTracer::Continuation PathTracer::layered_vertex(const SurfacePoint& sp, const Frame& frame, const glm::dvec3& wo,
-                                                    const MaterialTables& mt, PathLanes& p, Rng& rng, RayCounts& counts,
-                                                    RayLog* log) const {
+PathTracer::Continuation PathTracer::layered_vertex(const SurfacePoint& sp, const RayHit& hit, const Frame& frame,
+                                                    const glm::dvec3& wo, const MaterialTables& mt, PathLanes& p,
+                                                    Rng& rng, RayCounts& counts, RayLog* log) const {
   LightSample ls = sample_light(sp, frame, rng, counts, log);
   LayeredScatter s;
   if (mt.stack.response) {
     s = layered_table_scatter(mt, wo, ls, t_.light_shape, p, rng);
+  } else if (mt.stack.volume) {
+    const StackPointFactors fac = stack_point_factors(mt.stack, scene_.textures, sp.uv);
+    VolumeWalkContext ctx;
+    ctx.materials = &t_.materials;
+    ctx.material = sp.material;
+    ctx.textures = &scene_.textures;
+    ctx.uv = sp.uv;
+    const int base = embree_.info(hit.geom).material;
+    std::optional<TangentPlaneRegions> under;
+    if (base >= 0 && scene_.materials[base].dispatches()) {
+      under.emplace(scene_, base, sp, frame, embree_.uv_gradient(hit));
+      ctx.under = &*under;
+    }
+    s = layered_scatter(mt, fac, wo, ls, t_.light_shape, t_.n, p, rng, &ctx);
   } else {
     const StackPointFactors fac = stack_point_factors(mt.stack, scene_.textures, sp.uv);
     s = layered_scatter(mt, fac, wo, ls, t_.light_shape, t_.n, p, rng);
@@ -330,7 +373,7 @@ double PathTracer::sample_pixel(int x, int y, Rng& rng, double* bands, RayCounts
     counts.mark(Stage::kSurface);
     Continuation c = !mt.stack.enabled ? surface_vertex(sp, frame, wo, mt, diffuse_seen, p, rng, counts, log)
                      : mt.stack.spatial ? spatial_vertex(sp, hit.geom, frame, wo, mt, p, rng, counts, log)
-                                        : layered_vertex(sp, frame, wo, mt, p, rng, counts, log);
+                                        : layered_vertex(sp, hit, frame, wo, mt, p, rng, counts, log);
     counts.mark(mt.stack.enabled ? Stage::kLayered : Stage::kShading);
     if (!c.ok) break;
     if (depth + 1 >= max_depth && !hittable_emitters_) break;  // the next hit could only add emission

@@ -57,7 +57,7 @@ class PathTracer {
   LightSample sample_light(const SurfacePoint& sp, const Frame& frame, Rng& rng, RayCounts& counts, RayLog* log) const;
   Continuation surface_vertex(const SurfacePoint& sp, const Frame& frame, const glm::dvec3& wo, const MaterialTables& mt,
                               bool diffuse_seen, PathLanes& p, Rng& rng, RayCounts& counts, RayLog* log) const;
-  Continuation layered_vertex(const SurfacePoint& sp, const Frame& frame, const glm::dvec3& wo, const MaterialTables& mt,
+  Continuation layered_vertex(const SurfacePoint& sp, const RayHit& hit, const Frame& frame, const glm::dvec3& wo, const MaterialTables& mt,
                               PathLanes& p, Rng& rng, RayCounts& counts, RayLog* log) const;
   Continuation spatial_vertex(const SurfacePoint& sp, unsigned geom, const Frame& frame, const glm::dvec3& wo,
                               const MaterialTables& mt, PathLanes& p, Rng& rng, RayCounts& counts, RayLog* log) const;

@@ -41,7 +41,7 @@ void build_stack_responses(const Scene& sc, RenderTables& rt) {
   for (size_t k = 0; k < rt.materials.size(); ++k) {
     MaterialTables& t = rt.materials[k];
     const LayerStack& stack = sc.materials[k].stack;
-    if (!t.stack.enabled || stack.transport == StackTransport::kWalk) continue;
+    if (!t.stack.enabled || stack.transport == StackTransport::kWalk || stack.transport == StackTransport::kVolume) continue;
     if (std::string why = stack_response_unsupported(t.stack, t); !why.empty()) {
       if (stack.transport == StackTransport::kSpatial)
         throw InputError(sc.file, "/materials/" + sc.materials[k].name + "/transport",

@@ -34,6 +34,7 @@ StackTables build_stack_tables(const LayerStack& stack, const std::vector<GridEe
   StackTables t;
   if (!stack.enabled) return t;
   t.enabled = true;
+  t.volume = stack.transport == StackTransport::kVolume;
   t.ambient_ior = stack.ambient_ior;
   t.top = DielectricInterface(stack.top_roughness, stack.ambient_ior, stack.layers.front().ior);
   if (stack.top_roughness > 0) t.top_lobe.prepare(stack.layers.front().ior / stack.ambient_ior, stack.top_roughness);

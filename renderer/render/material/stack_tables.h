@@ -55,6 +55,9 @@ struct StackTables {
   // The lateral profiles (transport "spatial"), with the table above for the directional part; null
   // otherwise.
   std::shared_ptr<const SpatialStack> spatial;
+  // Transport "volume": the walk runs at every vertex with its lateral position tracked and crosses
+  // into the material under it (renderer/render/integrator/layered_bsdf.h).
+  bool volume = false;
   bool fluorescent() const {
     for (auto& l : layers)
       if (!l.fluors.empty()) return true;

@@ -20,11 +20,17 @@
 //   (photons from a source, the MCML comparison) it does not.
 // The Visitor sees every collision with the lanes' arrival weights (for next-event estimation or
 // absorption tallies), every opaque-base vertex, and every straight step (for lateral tallies).
+// The walk keeps its lateral position (mm from where it started). A Lateral policy may stop a flight
+// where the material under it changes (the volume walk, renderer/render/integrator/layered_bsdf.h):
+// the walk then ends with WalkEnd::kRegion at that point, its lanes weighted as for a flight to a
+// face, and the caller continues it in the other stack.
 #pragma once
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include <glm/geometric.hpp>
+#include <glm/vec2.hpp>
 
 #include "renderer/render/material/albedo_matrix.h"
 #include "renderer/render/material/material_tables.h"
@@ -73,9 +79,17 @@ struct WalkState {
   // The walk has been inside a layer that absorbs or scatters (light that leaves without having
   // done so is specular reflection off the stack's clear top, as MCML counts it).
   bool turbid = false;
+  glm::dvec2 pos{0, 0};  // lateral position, mm from where the walk started
+  float w_ref = 0;       // the weight Russian roulette compares with (0: the lanes' at the start)
 };
 
-enum class WalkEnd { kExitTop, kExitBottom, kAbsorbed, kTruncated };
+enum class WalkEnd { kExitTop, kExitBottom, kAbsorbed, kTruncated, kRegion };
+
+// No lateral structure: the stack is the same everywhere (the position-free walk).
+struct NoLateral {
+  static constexpr bool kActive = false;
+  double limit(const WalkState&, double) { return std::numeric_limits<double>::infinity(); }
+};
 
 struct WalkResult {
   WalkEnd end = WalkEnd::kAbsorbed;
@@ -153,7 +167,15 @@ class StackWalker {
   // Walks from `s` (inside layer s.layer, travelling along s.d) until the path leaves the stack,
   // is absorbed (all weights zero or Russian roulette) or hits the collision guard.
   template <class Visitor>
-  WalkResult walk(WalkState& s, WalkLanes& lanes, const StackPointFactors& fac, Rng& rng, Visitor& v) const;
+  WalkResult walk(WalkState& s, WalkLanes& lanes, const StackPointFactors& fac, Rng& rng, Visitor& v) const {
+    NoLateral none;
+    return walk(s, lanes, fac, rng, v, none);
+  }
+  // The same, stopping (WalkEnd::kRegion) where lat.limit(s, t) says, for a flight of length t from
+  // s, that the material under it changes at a distance below t.
+  template <class Visitor, class Lateral>
+  WalkResult walk(WalkState& s, WalkLanes& lanes, const StackPointFactors& fac, Rng& rng, Visitor& v, Lateral& lat) const;
+  const StackTables& stack() const { return st_; }
 
   // Crosses an interface from index n1 into n2: the radiance-mode weight factor.
   double crossing_factor(double n1, double n2) const { return mode_ == WalkMode::kRadiance ? (n1 / n2) * (n1 / n2) : 1.0; }
@@ -184,6 +206,22 @@ class StackWalker {
   bool base_vertex(WalkState& s, WalkLanes& lanes, Rng& rng, Visitor& v) const;
   void scatter_lanes(WalkState& s, WalkLanes& lanes, const LaneCoefficients& c, const float* fac, double g, Rng& rng) const;
   bool roulette(WalkLanes& lanes, float w_ref, Rng& rng) const;
+  // A flight that reaches distance t without a collision: each lane weighted by its transmittance
+  // over the probability that the mixture's flight is longer than t. False when no lane can get there.
+  bool transmit(WalkLanes& lanes, const LaneCoefficients& c, float wsum, double t) const {
+    double p = 0;
+    float tr[kWalkLanes];
+    for (int k = 0; k < lanes.count; ++k) {
+      tr[k] = std::exp(-c.mut[k] * float(t));
+      p += lanes.w[k] / wsum * tr[k];
+    }
+    if (!(p > 0)) return false;
+    for (int k = 0; k < lanes.count; ++k) lanes.w[k] = float(lanes.w[k] * tr[k] / p);
+    return true;
+  }
+  // The same, and s moved there.
+  template <class Visitor>
+  bool flight_to(WalkState& s, WalkLanes& lanes, const LaneCoefficients& c, float wsum, double t, Visitor& v) const;
 
   const StackTables& st_;
   const MaterialTables& mt_;
@@ -193,10 +231,12 @@ class StackWalker {
   int similarity_after_ = 0;
 };
 
-template <class Visitor>
-WalkResult StackWalker::walk(WalkState& s, WalkLanes& lanes, const StackPointFactors& fac, Rng& rng, Visitor& v) const {
+template <class Visitor, class Lateral>
+WalkResult StackWalker::walk(WalkState& s, WalkLanes& lanes, const StackPointFactors& fac, Rng& rng, Visitor& v,
+                             Lateral& lat) const {
   WalkResult r;
-  const float w_ref = std::max(lanes.max_weight(), 1e-30f);
+  if (!(s.w_ref > 0)) s.w_ref = std::max(lanes.max_weight(), 1e-30f);
+  const float w_ref = s.w_ref;
   const bool emit = mode_ == WalkMode::kRadiance && reradiate_;
   LaneCoefficients c;
   for (;;) {
@@ -226,6 +266,14 @@ WalkResult StackWalker::walk(WalkState& s, WalkLanes& lanes, const StackPointFac
         u -= lanes.w[h];
       }
       if (c.mut[h] > 0) t = -std::log(1.0 - rng.next_double()) / c.mut[h];
+      if constexpr (Lateral::kActive) {
+        const double tb = lat.limit(s, std::min(t, to_face));
+        if (tb < std::min(t, to_face)) {
+          if (!flight_to(s, lanes, c, wsum, tb, v)) { r.end = WalkEnd::kAbsorbed; break; }
+          r.end = WalkEnd::kRegion;
+          break;
+        }
+      }
       if (t < to_face) {
         double p = 0;
         float tr[kWalkLanes];
@@ -235,6 +283,7 @@ WalkResult StackWalker::walk(WalkState& s, WalkLanes& lanes, const StackPointFac
         }
         for (int k = 0; k < lanes.count; ++k) lanes.w[k] = float(lanes.w[k] * tr[k] / p);
         v.moved(s.d, t);
+        s.pos += t * glm::dvec2(s.d.x, s.d.y);
         s.depth -= t * s.d.z;
         s.depth = std::clamp(s.depth, L.top, L.bottom);
         ++s.collisions;
@@ -245,18 +294,21 @@ WalkResult StackWalker::walk(WalkState& s, WalkLanes& lanes, const StackPointFac
         if (!roulette(lanes, w_ref, rng)) { r.end = WalkEnd::kAbsorbed; break; }
         continue;
       }
-      // To the face: each lane by its transmittance over the probability of getting there.
-      double p = 0;
-      float tr[kWalkLanes];
-      for (int k = 0; k < lanes.count; ++k) {
-        tr[k] = std::exp(-c.mut[k] * float(to_face));
-        p += lanes.w[k] / wsum * tr[k];
+      if (!transmit(lanes, c, wsum, to_face)) { r.end = WalkEnd::kAbsorbed; break; }
+    } else if constexpr (Lateral::kActive) {
+      // A clear layer: straight to its face unless the material under the flight changes first.
+      const double tb = lat.limit(s, to_face);
+      if (tb < to_face) {
+        v.moved(s.d, tb);
+        s.pos += tb * glm::dvec2(s.d.x, s.d.y);
+        s.depth = std::clamp(s.depth - tb * s.d.z, L.top, L.bottom);
+        r.end = WalkEnd::kRegion;
+        break;
       }
-      if (!(p > 0)) { r.end = WalkEnd::kAbsorbed; break; }
-      for (int k = 0; k < lanes.count; ++k) lanes.w[k] = float(lanes.w[k] * tr[k] / p);
     }
     if (!std::isfinite(to_face)) { r.end = WalkEnd::kAbsorbed; break; }  // horizontal in a semi-infinite layer
     v.moved(s.d, to_face);
+    s.pos += to_face * glm::dvec2(s.d.x, s.d.y);
     s.depth = s.d.z < 0 ? L.bottom : L.top;
     glm::dvec3 out;
     if (s.d.z < 0 && s.layer + 1 == int(st_.layers.size()) && st_.bottom == StackBottom::kBase) {
@@ -275,6 +327,17 @@ WalkResult StackWalker::walk(WalkState& s, WalkLanes& lanes, const StackPointFac
   r.turbid = s.turbid;
   r.collisions = s.collisions;
   return r;
+}
+
+template <class Visitor>
+bool StackWalker::flight_to(WalkState& s, WalkLanes& lanes, const LaneCoefficients& c, float wsum, double t,
+                            Visitor& v) const {
+  if (!transmit(lanes, c, wsum, t)) return false;
+  const StackLayerTables& L = st_.layers[s.layer];
+  v.moved(s.d, t);
+  s.pos += t * glm::dvec2(s.d.x, s.d.y);
+  s.depth = std::clamp(s.depth - t * s.d.z, L.top, L.bottom);
+  return true;
 }
 
 template <class Visitor>

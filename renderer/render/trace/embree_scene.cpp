@@ -190,6 +190,25 @@ SurfacePoint EmbreeScene::surface(const RayHit& h, const glm::dvec3& o, const gl
   return s;
 }
 
+UvGradient EmbreeScene::uv_gradient(const RayHit& h) const {
+  UvGradient g;
+  const GeomInfo& gi = info_[h.geom];
+  if (gi.kind != GeomInfo::Kind::kMesh) return g;
+  const auto& m = src_.meshes[gi.index];
+  if (m.uvs.empty()) return g;
+  const uint32_t i0 = m.indices[3 * h.prim], i1 = m.indices[3 * h.prim + 1], i2 = m.indices[3 * h.prim + 2];
+  const glm::dvec3 e1 = glm::dvec3(m.positions[i1]) - glm::dvec3(m.positions[i0]);
+  const glm::dvec3 e2 = glm::dvec3(m.positions[i2]) - glm::dvec3(m.positions[i0]);
+  const glm::dvec2 a1 = glm::dvec2(m.uvs[i1]) - glm::dvec2(m.uvs[i0]), a2 = glm::dvec2(m.uvs[i2]) - glm::dvec2(m.uvs[i0]);
+  // The dual basis of (e1, e2) in their plane: dp = dot(b1, dp) e1 + dot(b2, dp) e2.
+  const double g11 = glm::dot(e1, e1), g12 = glm::dot(e1, e2), g22 = glm::dot(e2, e2), det = g11 * g22 - g12 * g12;
+  if (!(det > 0)) return g;
+  const glm::dvec3 b1 = (g22 * e1 - g12 * e2) / det, b2 = (g11 * e2 - g12 * e1) / det;
+  g.u = a1.x * b1 + a2.x * b2;
+  g.v = a1.y * b1 + a2.y * b2;
+  return g;
+}
+
 glm::dvec3 EmbreeScene::offset(const SurfacePoint& s, const glm::dvec3& dir) {
   double eps = 1e-5 * s.scale;
   return s.p + (glm::dot(dir, s.ng) >= 0 ? eps : -eps) * s.ng;

@@ -38,6 +38,12 @@ struct SurfacePoint {
   bool flipped = false;  // ng and ns were turned to face the viewer (they face away from the authored side)
 };
 
+// How a surface's texture coordinates change along it at a hit: du = dot(u, dp), dv = dot(v, dp)
+// for a step dp in the triangle's plane (zero where the surface has no texture coordinates).
+struct UvGradient {
+  glm::dvec3 u{0, 0, 0}, v{0, 0, 0};
+};
+
 class EmbreeScene {
  public:
   explicit EmbreeScene(const Scene& scene);
@@ -54,6 +60,7 @@ class EmbreeScene {
   const GeomInfo& info(unsigned geom) const { return info_[geom]; }
   size_t geometries() const { return info_.size(); }
   SurfacePoint surface(const RayHit& h, const glm::dvec3& o, const glm::dvec3& d) const;
+  UvGradient uv_gradient(const RayHit& h) const;
   RTCScene handle() const { return scene_; }
 
   // A point offset off the surface toward `dir`, to start a ray without hitting the surface again.

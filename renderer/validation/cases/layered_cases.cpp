@@ -506,16 +506,18 @@ std::vector<CheckCaseInfo> check_cases() {
        "transport's tables against an independent forward photon Monte Carlo",
        4000000},
   };
-  for (const char* inside : {"dysplasia", "blood_spot"})
-    for (double a : {0.25, 0.5, 1.0, 2.0, 5.0})
-      for (bool fl : {false, true}) {
-        char name[80];
-        std::snprintf(name, sizeof name, "spatial_lesion_%s_%gmm%s", inside, a, fl ? "_fluorescence" : "");
-        c.push_back({name,
-                     std::string("a disc of ") + inside + " in lateral_tongue, lit uniformly: rendered " +
-                         (fl ? "fluorescence (405 nm)" : "reflectance") + " profile against a 3D forward Monte Carlo",
-                     4000000});
-      }
+  for (const char* transport : {"spatial", "volume"})
+    for (const char* inside : {"dysplasia", "blood_spot"})
+      for (double a : {0.25, 0.5, 1.0, 2.0, 5.0})
+        for (bool fl : {false, true}) {
+          char name[80];
+          std::snprintf(name, sizeof name, "%s_lesion_%s_%gmm%s", transport, inside, a, fl ? "_fluorescence" : "");
+          c.push_back({name,
+                       std::string("a disc of ") + inside + " in lateral_tongue, lit uniformly: " +
+                           (fl ? "fluorescence (405 nm)" : "reflectance") + " profile rendered with the \"" + transport +
+                           "\" transport against a 3D forward Monte Carlo",
+                       4000000});
+        }
   for (const auto& name : mcml_case_names())
     c.push_back({"mcml_" + name, "MCML slab " + name + " (benchmarks/mcml): Rsp, Rd, Tt and absorption per layer", 1000000});
   for (const auto& name : mcml_case_names())
@@ -543,15 +545,16 @@ CheckCaseResult run_check_case(const std::string& name, long long samples, uint6
   else if (name == "layered_scattering_fluorescence") r = scattering_fluorescence(samples, seed);
   else if (name == "layered_coated_lambertian") r = coated_lambertian(samples, seed);
   else if (name == "spatial_fluorescence_pencil") r = spatial_fluorescence_pencil(samples, seed);
-  else if (name.rfind("spatial_lesion_", 0) == 0) {
-    // spatial_lesion_<preset>_<a>mm[_fluorescence]
-    std::string rest = name.substr(15);
+  else if (name.rfind("spatial_lesion_", 0) == 0 || name.rfind("volume_lesion_", 0) == 0) {
+    // <spatial|volume>_lesion_<preset>_<a>mm[_fluorescence]
+    const std::string transport = name.substr(0, name.find('_'));
+    std::string rest = name.substr(transport.size() + 8);
     const bool fl = rest.size() > 13 && rest.compare(rest.size() - 13, 13, "_fluorescence") == 0;
     if (fl) rest.resize(rest.size() - 13);
     const size_t us = rest.rfind('_');
     const std::string preset = rest.substr(0, us);
     const double a = std::atof(rest.substr(us + 1).c_str());
-    r = spatial_lesion_disc(preset, a, fl, samples, seed);
+    r = spatial_lesion_disc(preset, a, fl, samples, seed, transport);
   }
   else if (name.rfind("mcml_radial_", 0) == 0) {
     auto dir = mcml_radial_case_dir();

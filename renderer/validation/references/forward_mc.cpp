@@ -190,6 +190,7 @@ void Simulator::tally_exit(const Photon& p, double cos_air, ForwardTally& t) con
   const size_t i = ring * s_.n + p.wl;
   (p.fluorescent ? t.fluor : t.elastic)[i] += p.w;
   if (cos_air > s_.cone_cos) (p.fluorescent ? t.fluor_cone : t.elastic_cone)[i] += p.w;
+  if (cos_air > s_.narrow_cos) (p.fluorescent ? t.fluor_narrow : t.elastic_narrow)[i] += p.w;
 }
 
 // At a horizontal face of layer l of column c: reflect, refract into the next layer, or leave
@@ -336,6 +337,13 @@ void ForwardTally::add(const ForwardTally& o) {
   acc(fluor, o.fluor);
   acc(elastic_cone, o.elastic_cone);
   acc(fluor_cone, o.fluor_cone);
+  acc(elastic_narrow, o.elastic_narrow);
+  acc(fluor_narrow, o.fluor_narrow);
+}
+
+// Every tally of t zeroed, `cells` long.
+void clear_tally(ForwardTally& t, size_t cells) {
+  for (auto* v : {&t.elastic, &t.fluor, &t.elastic_cone, &t.fluor_cone, &t.elastic_narrow, &t.fluor_narrow}) v->assign(cells, 0.0);
 }
 
 ForwardTally run_forward_mc(const ForwardSetup& s, long long photons, uint64_t seed) {
@@ -345,10 +353,7 @@ ForwardTally run_forward_mc(const ForwardSetup& s, long long photons, uint64_t s
   std::vector<ForwardTally> part(blocks);
   tbb::parallel_for((long long)0, blocks, [&](long long b) {
     ForwardTally& t = part[b];
-    t.elastic.assign(cells, 0.0);
-    t.fluor.assign(cells, 0.0);
-    t.elastic_cone.assign(cells, 0.0);
-    t.fluor_cone.assign(cells, 0.0);
+    clear_tally(t, cells);
     const long long end = std::min(photons, (b + 1) * block);
     for (long long i = b * block; i < end; ++i) {
       Rng rng(seed, Rng::stream_for(0x46574D43ULL, uint64_t(i)));
@@ -357,10 +362,7 @@ ForwardTally run_forward_mc(const ForwardSetup& s, long long photons, uint64_t s
     t.photons = end - b * block;
   });
   ForwardTally out;
-  out.elastic.assign(cells, 0.0);
-  out.fluor.assign(cells, 0.0);
-  out.elastic_cone.assign(cells, 0.0);
-  out.fluor_cone.assign(cells, 0.0);
+  clear_tally(out, cells);
   for (const auto& t : part) out.add(t);
   return out;
 }

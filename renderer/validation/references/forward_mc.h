@@ -9,7 +9,7 @@
 // re-emits), at an emission bin drawn from the layer's re-emission matrix, isotropic; it is followed
 // the same way but does not fluoresce again. Every photon that leaves through
 // the top is tallied by where it leaves (distance from the z axis), its wavelength bin and whether
-// it is fluorescence, in all directions and within a cone around the normal.
+// it is fluorescence, in all directions and within two cones around the normal.
 //
 // Lengths are millimetres; layers are given per column (outside / inside the cylinder) on the
 // renderer's wavelength grid (from its stack tables, which are inputs here, not the walk). The
@@ -45,12 +45,14 @@ struct ForwardSetup {
   // Tally rings: exits at distance r from the axis go to the ring [edges[i], edges[i+1]).
   std::vector<double> ring_edges;
   double cone_cos = 0.9;            // "within the cone": leaving with cos(theta) above this, in air
+  double narrow_cos = 0.97;         // a second, narrower cone (nearer what a camera straight above sees)
 };
 
 struct ForwardTally {
   long long photons = 0;
-  // [ring * n + bin] photon weight leaving (all directions / within the cone), elastic and fluorescent.
-  std::vector<double> elastic, fluor, elastic_cone, fluor_cone;
+  // [ring * n + bin] photon weight leaving (all directions / within the cone / within the narrow
+  // cone), elastic and fluorescent.
+  std::vector<double> elastic, fluor, elastic_cone, fluor_cone, elastic_narrow, fluor_narrow;
   void add(const ForwardTally& o);
 };
 

@@ -1,0 +1,233 @@
+// The volume walk of layered tissue ("transport": "volume", renderer/render/integrator/layered_bsdf.h,
+// docs/layered-tissue.md "The volume walk"): the walk keeps its lateral position and runs in the
+// material under it, crossing from one `regions` material into another.
+// - crossing into an identical material changes nothing: the image equals the position-free walk's
+//   within its noise (reflected light and fluorescence, whose sub-walks cross too);
+// - energy: two different non-absorbing stacks on a white base, side by side under a uniform sky,
+//   reflect everything at every pixel, also where the walks cross between them (white furnace);
+// - the texture coordinates the region look-up extrapolates along the surface (closed form);
+// - the same image at any thread count; bad input named.
+// Against the 3D forward Monte Carlo of a lesion disc: `oralfluor bench volume_lesion_*`
+// (benchmarks/results.d/41_spatial.md; too slow for the suite at a useful precision).
+#include <gtest/gtest.h>
+
+#include <tbb/global_control.h>
+
+#include <cmath>
+#include <cstring>
+
+#include "renderer/core/error.h"
+#include "renderer/core/json_node.h"
+#include "renderer/render/render_job.h"
+#include "renderer/render/trace/embree_scene.h"
+#include "sanitizer_scale.h"
+
+using namespace ofl;
+
+namespace {
+
+using nlohmann::json;
+
+// A flat patch seen from above under one LED (violet plus a little white), `material` on a quad
+// of half-width 25 mm.
+json patch_scene(const json& materials, const std::string& material, int spp, int width) {
+  return {{"format", "oralfluor-scene"}, {"version", 1},
+          {"integrator", {{"spp", spp}, {"seed", 5}, {"max_depth", 1},
+                          {"wavelengths", {{"min_nm", 380}, {"max_nm", 700}, {"step_nm", 5}}},
+                          {"output_bands", {{"min_nm", 400}, {"max_nm", 680}, {"step_nm", 40}}}}},
+          {"camera", {{"position", {0, 0, 0.3}}, {"look_at", {0, 0, 0}}, {"up", {0, 1, 0}}, {"fov_deg", 1.5}, {"resolution", {width, width}}}},
+          {"materials", materials},
+          {"geometry", {{{"type", "quad"}, {"center", {0, 0, 0}}, {"u", {0.05, 0, 0}}, {"v", {0, 0.05, 0}}, {"material", material}}}},
+          {"lights", {{{"spd", {{"type", "sum"}, {"terms", {{{"type", "gaussian"}, {"peak_nm", 405}, {"fwhm_nm", 15}},
+                                                               {{"type", "constant"}, {"value", 0.01}}}}}},
+                       {"radiant_intensity_W_sr", 50.0}, {"profile", {{"half_angle_deg", 60}}},
+                       {"position", {0.0, -1.0, 3.0}}, {"target", {0, 0, 0}}}}}};
+}
+
+// Discs of `inside` in `outside` (spheres cutting the patch), all with transport "volume": the view
+// (7.9 mm wide) holds three edges within the walks' reach.
+json discs(const json& outside, const json& inside) {
+  json o = outside, i = inside;
+  o["transport"] = "volume";
+  i["transport"] = "volume";
+  json regions = json::array();
+  for (const auto& c : {std::array<double, 3>{0.0008, 0.0, 0.0005}, std::array<double, 3>{-0.0012, 0.0009, 0.0004},
+                        std::array<double, 3>{0.0, -0.0013, 0.0003}})
+    regions.push_back({{"sphere", {{"center_m", {c[0], c[1], 0.0}}, {"radius_mm", 1000.0 * c[2]}}}, {"material", "inside"}});
+  return {{"outside", o}, {"inside", i}, {"t", {{"type", "regions"}, {"base", "outside"}, {"regions", regions}}}};
+}
+
+struct BandMeans {
+  std::vector<double> mean, se;
+};
+
+// Per output band, the image mean and its standard error over pixels.
+BandMeans band_means(const SpectralImage& im, bool fluorescence) {
+  BandMeans m;
+  const size_t px = size_t(im.width) * im.height;
+  for (int b = 0; b < im.bands(); ++b) {
+    double s = 0, s2 = 0;
+    for (size_t i = 0; i < px; ++i) {
+      const double v = (fluorescence ? im.fluorescence : im.data)[i * im.bands() + b];
+      s += v;
+      s2 += v * v;
+    }
+    const double mu = s / px;
+    m.mean.push_back(mu);
+    m.se.push_back(std::sqrt(std::max(0.0, s2 / px - mu * mu) / (px - 1)));
+  }
+  return m;
+}
+
+RenderResult render_quiet(const json& j, const char* name) {
+  const Scene sc = load_scene(JsonFile::from(j, name));
+  RenderOptions o;
+  o.progress = false;
+  return render(sc, o);
+}
+
+}  // namespace
+
+// The walk stops at every crossing and goes on in the other material's stack with a fresh flight
+// (exponential flights have no memory): across identical materials the expected image is the
+// position-free walk's exactly, for reflected light and for fluorescence.
+TEST(LayeredVolume, CrossingIntoTheSameMaterialChangesNothing) {
+  const json tongue = {{"type", "layered_tissue"}, {"preset", "lateral_tongue"}};
+  json walk = tongue;
+  walk["transport"] = "walk";
+  const int spp = test::sanitized_spp(6), w = 24;
+  const RenderResult a = render_quiet(patch_scene({{"t", walk}}, "t", spp, w), "walk.json");
+  const RenderResult b = render_quiet(patch_scene(discs(tongue, tongue), "t", spp, w), "volume.json");
+  for (bool fl : {false, true}) {
+    const BandMeans ma = band_means(a.image, fl), mb = band_means(b.image, fl);
+    int compared = 0;
+    for (size_t i = 0; i < ma.mean.size(); ++i) {
+      if (!(ma.mean[i] > 0.02 * *std::max_element(ma.mean.begin(), ma.mean.end()))) continue;
+      EXPECT_NEAR(mb.mean[i], ma.mean[i], 3.5 * std::hypot(ma.se[i], mb.se[i]))
+          << (fl ? "fluorescence" : "all light") << ", band " << a.image.band_nm[i] << " nm";
+      ++compared;
+    }
+    EXPECT_GE(compared, 4) << (fl ? "fluorescence" : "all light");
+  }
+}
+
+// Two different non-absorbing stacks over a white base (same depth, same indices), discs of one in
+// the other, inside a sky of radiance 1: all light that enters comes back out, so every pixel is 1,
+// next to the edges too, where the walks cross from one stack into the other.
+TEST(LayeredVolume, WhiteFurnaceAcrossRegions) {
+  const json coat = {{"ior", 1.33}, {"roughness", 0.2}, {"thickness_mm", 0.01}};
+  const json white = {{"type", "base"}, {"reflectance", 1.0}};
+  const json a = {{"type", "layered_tissue"}, {"coating", coat}, {"bottom", white},
+                  {"layers", {{{"name", "one"}, {"thickness_mm", 1.0}, {"ior", 1.4}, {"scattering", {{"g", 0.8}, {"mus_per_mm", 5.0}}}}}}};
+  const json b = {{"type", "layered_tissue"}, {"coating", coat}, {"bottom", white},
+                  {"layers", {{{"name", "dense"}, {"thickness_mm", 0.3}, {"ior", 1.4}, {"scattering", {{"g", 0.0}, {"mus_per_mm", 30.0}}}},
+                              {{"name", "loose"}, {"thickness_mm", 0.7}, {"ior", 1.4}, {"scattering", {{"g", 0.9}, {"mus_per_mm", 2.0}}}}}}};
+  json mats = discs(a, b);
+  mats["sky"] = {{"type", "lambertian"}, {"reflectance", 0.0}, {"emission", 1.0}};
+  json j = patch_scene(mats, "t", test::sanitized_spp(8), 48);
+  j["lights"] = json::array();
+  j["geometry"].push_back({{"type", "sphere"}, {"center", {0, 0, 0}}, {"radius", 100}, {"material", "sky"}});
+  j["integrator"]["wavelengths"] = {{"min_nm", 400}, {"max_nm", 700}, {"step_nm", 10}};
+  j["integrator"]["output_bands"] = {{"min_nm", 450}, {"max_nm", 650}, {"step_nm", 100}};
+  const RenderResult r = render_quiet(j, "furnace.json");
+  const SpectralImage& im = r.image;
+  // Whole image, and the pixels within 0.3 mm of the first disc's edge (0.5 mm around (0.8, 0) mm).
+  double s = 0, s2 = 0, e = 0, e2 = 0;
+  int n = 0, ne = 0;
+  const double half_mm = 300.0 * std::tan(0.75 * 3.14159265358979 / 180.0);
+  for (int y = 0; y < im.height; ++y)
+    for (int x = 0; x < im.width; ++x) {
+      double v = 0;
+      for (int k = 0; k < im.bands(); ++k) v += im.pixel(x, y)[k] / im.bands();
+      s += v;
+      s2 += v * v;
+      ++n;
+      const double X = (2.0 * (x + 0.5) / im.width - 1.0) * half_mm, Y = (1.0 - 2.0 * (y + 0.5) / im.height) * half_mm;
+      if (std::abs(std::hypot(X - 0.8, Y) - 0.5) < 0.3) {
+        e += v;
+        e2 += v * v;
+        ++ne;
+      }
+    }
+  const double mean = s / n, se = std::sqrt((s2 / n - mean * mean) / (n - 1));
+  const double edge = e / ne, se_edge = std::sqrt((e2 / ne - edge * edge) / (ne - 1));
+  std::printf("furnace across regions: mean %.4f +- %.4f, near an edge %.4f +- %.4f (%d pixels)\n", mean, se, edge, se_edge, ne);
+  EXPECT_GT(ne, 50);
+  EXPECT_NEAR(mean, 1.0, std::max(0.01, 3.0 * se));
+  EXPECT_NEAR(edge, 1.0, std::max(0.015, 3.0 * se_edge));
+}
+
+// The region look-up steps along the surface from the hit point: the texture coordinates' gradient
+// of a quad of 40 x 20 mm is (1 / 0.04 m, 0) and (0, 1 / 0.02 m), whatever the hit.
+TEST(LayeredVolume, UvGradientOfAQuadIsItsInverseSize) {
+  json j = patch_scene({{"t", {{"type", "lambertian"}, {"reflectance", 0.5}}}}, "t", 1, 4);
+  j["geometry"][0]["u"] = {0.04, 0, 0};
+  j["geometry"][0]["v"] = {0, 0.02, 0};
+  const Scene sc = load_scene(JsonFile::from(j, "quad.json"));
+  const EmbreeScene es(sc);
+  for (const auto& o : {glm::dvec3(0.003, -0.002, 1.0), glm::dvec3(-0.011, 0.006, 1.0)}) {
+    const RayHit h = es.intersect(o, glm::dvec3(0, 0, -1));
+    ASSERT_TRUE(h.found());
+    const UvGradient g = es.uv_gradient(h);
+    // (mesh positions are floats: a relative 1e-6)
+    EXPECT_NEAR(std::abs(g.u.x), 25.0, 25e-6);
+    EXPECT_NEAR(g.u.y, 0.0, 25e-6);
+    EXPECT_NEAR(std::abs(g.v.y), 50.0, 50e-6);
+    EXPECT_NEAR(g.v.x, 0.0, 50e-6);
+    // Stepping along the gradient reproduces the texture coordinates of a second hit.
+    const SurfacePoint a = es.surface(h, o, glm::dvec3(0, 0, -1));
+    const glm::dvec3 o2 = o + glm::dvec3(0.002, 0.001, 0);
+    const RayHit h2 = es.intersect(o2, glm::dvec3(0, 0, -1));
+    const SurfacePoint b = es.surface(h2, o2, glm::dvec3(0, 0, -1));
+    EXPECT_NEAR(b.uv.x, a.uv.x + glm::dot(g.u, b.p - a.p), 1e-5);
+    EXPECT_NEAR(b.uv.y, a.uv.y + glm::dot(g.v, b.p - a.p), 1e-5);
+  }
+}
+
+TEST(LayeredVolume, SameImageAtAnyThreadCount) {
+  const json j = patch_scene(discs({{"type", "layered_tissue"}, {"preset", "lateral_tongue"}},
+                                   {{"type", "layered_tissue"}, {"preset", "blood_spot"}}),
+                             "t", 1, 8);
+  std::vector<float> first;
+  for (int threads : {1, 2, 3}) {
+    tbb::global_control g(tbb::global_control::max_allowed_parallelism, threads);
+    const RenderResult r = render_quiet(j, "threads.json");
+    if (first.empty()) first = r.image.data;
+    else EXPECT_EQ(0, std::memcmp(first.data(), r.image.data.data(), 4 * first.size())) << threads << " threads";
+  }
+}
+
+TEST(LayeredVolume, BadInputIsNamed) {
+  const json tongue = {{"type", "layered_tissue"}, {"preset", "lateral_tongue"}};
+  // A volume material beside a table one: refused, naming both and the field.
+  json j = patch_scene(discs(tongue, tongue), "t", 1, 4);
+  j["materials"]["inside"]["transport"] = "table";
+  try {
+    load_scene(JsonFile::from(j, "mixed.json"));
+    ADD_FAILURE() << "mixed transports accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("\"outside\" uses the \"volume\" transport but \"inside\" does not"), std::string::npos)
+        << e.what();
+    EXPECT_NE(e.describe().find("/materials/t/regions/0/material"), std::string::npos) << e.describe();
+  }
+  // Columns that end differently (a white base at 1 mm beside semi-infinite tissue): refused.
+  json k = patch_scene(discs(tongue, {{"type", "layered_tissue"},
+                                      {"bottom", {{"type", "base"}, {"reflectance", 1.0}}},
+                                      {"layers", {{{"name", "one"}, {"thickness_mm", 1.0}, {"ior", 1.4},
+                                                   {"scattering", {{"g", 0.8}, {"mus_per_mm", 5.0}}}}}}}),
+                       "t", 1, 4);
+  try {
+    load_scene(JsonFile::from(k, "columns.json"));
+    ADD_FAILURE() << "columns of different ends accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("must end alike"), std::string::npos) << e.what();
+  }
+  // An unknown transport names the choices.
+  json u = patch_scene({{"t", {{"type", "layered_tissue"}, {"preset", "lateral_tongue"}, {"transport", "volumes"}}}}, "t", 1, 4);
+  try {
+    load_scene(JsonFile::from(u, "unknown.json"));
+    ADD_FAILURE() << "unknown transport accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("\"volume\""), std::string::npos) << e.what();
+  }
+}
