@@ -16,8 +16,8 @@
 #include <cmath>
 #include <cstring>
 
-#include "renderer/core/error.h"
-#include "renderer/core/json_node.h"
+#include "renderer/core/errors/error.h"
+#include "renderer/core/files/json_node.h"
 #include "renderer/render/render_job.h"
 #include "renderer/render/trace/embree_scene.h"
 #include "sanitizer_scale.h"

@@ -1,5 +1,5 @@
 // Layered tissue at a path vertex: one stochastic evaluation and sample of the stack's BSDF
-// (materials/layered.h; the walk is renderer/render/stack/stack_walk.h; docs/layered-tissue.md).
+// (materials/description/layered.h; the walk is renderer/render/stack/stack_walk.h; docs/layered-tissue.md).
 //
 // With transport "walk" the stack's BSDF is evaluated and sampled by one position-free random walk
 // per vertex, as pbrt-v4's LayeredBxDF does, extended to several layers, wavelength lanes and

@@ -161,7 +161,7 @@ PathTracer::Continuation PathTracer::surface_vertex(const SurfacePoint& sp, cons
 
   const GgxCoating& coat = diffuse_seen ? mt.coating_regularized : mt.coating;
   // The base is reached after n internal reflections inside the coating (shared by the lanes);
-  // each lane walks n albedo-matrix steps first (materials/coated.h).
+  // each lane walks n albedo-matrix steps first (materials/interfaces/coated.h).
   int wl_base[kLanes];
   float w_base[kLanes];
   bool fl_base[kLanes];

@@ -4,7 +4,7 @@
 // continues at that wavelength while keeping its camera wavelength for the film. Direct light from
 // the LEDs is next-event estimated with MIS for disk emitters; direct excitation of fluorophores is
 // summed over excitation wavelengths deterministically from precomputed tables. Layered tissue
-// (materials/layered.h) is entered through a stochastic position-free random walk that does its
+// (materials/description/layered.h) is entered through a stochastic position-free random walk that does its
 // own next-event estimation at every scattering event (PathTracer::layered_vertex in
 // path_tracer.cpp; docs/layered-tissue.md).
 // Transport is in photon units.
