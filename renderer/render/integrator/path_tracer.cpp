@@ -42,6 +42,21 @@ class TangentPlaneRegions final : public LateralMaterials {
   UvGradient g_;
 };
 
+// A surface material at a point: its reflectance texture's scale and its fluorophores'
+// concentrations there.
+LocalMaterial local_material(const MaterialTables& mt, const std::vector<Texture>& textures, const glm::vec2& uv) {
+  LocalMaterial lm{&mt};
+  if (mt.reflectance_texture >= 0) lm.rscale = textures[mt.reflectance_texture].lookup(uv.x, uv.y);
+  lm.nf = std::min<int>(int(mt.fluorophores.size()), kMaxFluorophoresPerMaterial);  // more is refused at load
+  for (int j = 0; j < lm.nf; ++j) {
+    const auto& f = mt.fluorophores[j];
+    float factor = 1.0f;
+    if (f.texture >= 0) factor = std::max(0.0f, f.texture_offset + f.texture_scale * textures[f.texture].lookup(uv.x, uv.y));
+    lm.conc[j] = f.concentration * factor;
+  }
+  return lm;
+}
+
 }  // namespace
 
 const char* stage_name(int stage) {
@@ -149,15 +164,7 @@ PathTracer::Continuation PathTracer::surface_vertex(const SurfacePoint& sp, cons
                                                     const MaterialTables& mt, bool diffuse_seen, PathLanes& p, Rng& rng,
                                                     RayCounts& counts, RayLog* log) const {
   const int n = t_.n;
-  LocalMaterial lm{&mt};
-  if (mt.reflectance_texture >= 0) lm.rscale = scene_.textures[mt.reflectance_texture].lookup(sp.uv.x, sp.uv.y);
-  lm.nf = std::min<int>(int(mt.fluorophores.size()), kMaxFluorophoresPerMaterial);  // more is refused at load
-  for (int j = 0; j < lm.nf; ++j) {
-    const auto& f = mt.fluorophores[j];
-    float factor = 1.0f;
-    if (f.texture >= 0) factor = std::max(0.0f, f.texture_offset + f.texture_scale * scene_.textures[f.texture].lookup(sp.uv.x, sp.uv.y));
-    lm.conc[j] = f.concentration * factor;
-  }
+  const LocalMaterial lm = local_material(mt, scene_.textures, sp.uv);
 
   const GgxCoating& coat = diffuse_seen ? mt.coating_regularized : mt.coating;
   // The base is reached after n internal reflections inside the coating (shared by the lanes);
