@@ -26,6 +26,7 @@
 #include "renderer/render/render_job.h"
 #include "renderer/render/spatial/stack_profiles.h"
 #include "renderer/render/stack/stack_response_cache.h"
+#include "image_band_means.h"
 #include "sanitizer_scale.h"
 
 using namespace ofl;
@@ -51,27 +52,6 @@ json flat_scene(const json& material, int spp, int width = 48, double half_m = 0
                                                                {{"type", "constant"}, {"value", 0.002}}}}}},
                        {"radiant_intensity_W_sr", 50.0}, {"profile", {{"half_angle_deg", 60}}},
                        {"position", {0.0, -1.0, 3.0}}, {"target", {0, 0, 0}}}}}};
-}
-
-struct ImageMean {
-  std::vector<double> mean, se;  // per output band, over pixels
-};
-
-ImageMean image_mean(const SpectralImage& im, bool fluorescence_only) {
-  ImageMean m;
-  const size_t px = size_t(im.width) * im.height;
-  for (int b = 0; b < im.bands(); ++b) {
-    double s = 0, s2 = 0;
-    for (size_t i = 0; i < px; ++i) {
-      const double v = fluorescence_only ? im.fluorescence[i * im.bands() + b] : im.data[i * im.bands() + b];
-      s += v;
-      s2 += v * v;
-    }
-    const double mu = s / px;
-    m.mean.push_back(mu);
-    m.se.push_back(std::sqrt(std::max(0.0, s2 / px - mu * mu) / (px - 1)));
-  }
-  return m;
 }
 
 // The relative standard deviation over pixels of the 400-700 nm band sum (on a uniformly lit patch,
@@ -101,7 +81,7 @@ void expect_same_as_table(json material, const char* what) {
   RenderOptions o;
   o.progress = false;
   const RenderResult a = render(st, o), b = render(ss, o);
-  const ImageMean ma = image_mean(a.image, false), mb = image_mean(b.image, false);
+  const test::BandMeans ma = test::band_means(a.image, false), mb = test::band_means(b.image, false);
   int compared = 0;
   for (size_t i = 0; i < ma.mean.size(); ++i) {
     if (!(ma.mean[i] > 1e-3 * *std::max_element(ma.mean.begin(), ma.mean.end()))) continue;

@@ -20,6 +20,7 @@
 #include "renderer/core/files/json_node.h"
 #include "renderer/render/render_job.h"
 #include "renderer/render/trace/embree_scene.h"
+#include "image_band_means.h"
 #include "sanitizer_scale.h"
 
 using namespace ofl;
@@ -57,28 +58,6 @@ json discs(const json& outside, const json& inside) {
   return {{"outside", o}, {"inside", i}, {"t", {{"type", "regions"}, {"base", "outside"}, {"regions", regions}}}};
 }
 
-struct BandMeans {
-  std::vector<double> mean, se;
-};
-
-// Per output band, the image mean and its standard error over pixels.
-BandMeans band_means(const SpectralImage& im, bool fluorescence) {
-  BandMeans m;
-  const size_t px = size_t(im.width) * im.height;
-  for (int b = 0; b < im.bands(); ++b) {
-    double s = 0, s2 = 0;
-    for (size_t i = 0; i < px; ++i) {
-      const double v = (fluorescence ? im.fluorescence : im.data)[i * im.bands() + b];
-      s += v;
-      s2 += v * v;
-    }
-    const double mu = s / px;
-    m.mean.push_back(mu);
-    m.se.push_back(std::sqrt(std::max(0.0, s2 / px - mu * mu) / (px - 1)));
-  }
-  return m;
-}
-
 RenderResult render_quiet(const json& j, const char* name) {
   const Scene sc = load_scene(JsonFile::from(j, name));
   RenderOptions o;
@@ -99,7 +78,7 @@ TEST(LayeredVolume, CrossingIntoTheSameMaterialChangesNothing) {
   const RenderResult a = render_quiet(patch_scene({{"t", walk}}, "t", spp, w), "walk.json");
   const RenderResult b = render_quiet(patch_scene(discs(tongue, tongue), "t", spp, w), "volume.json");
   for (bool fl : {false, true}) {
-    const BandMeans ma = band_means(a.image, fl), mb = band_means(b.image, fl);
+    const test::BandMeans ma = test::band_means(a.image, fl), mb = test::band_means(b.image, fl);
     int compared = 0;
     for (size_t i = 0; i < ma.mean.size(); ++i) {
       if (!(ma.mean[i] > 0.02 * *std::max_element(ma.mean.begin(), ma.mean.end()))) continue;
