@@ -33,7 +33,51 @@ struct FColumn {
       if (z < layers[l].bottom) return int(l);
     return int(layers.size()) - 1;
   }
+  double up_transmission(int l, double z, int wl) const;
 };
+
+// Reflectance of a face at normal incidence.
+double fresnel_normal(double n1, double n2) {
+  const double r = (n1 - n2) / (n1 + n2);
+  return r * r;
+}
+
+// A face of reflectance r put beneath a part of the stack that, seen from below, sends back rb and
+// lets out through the top tt: the sums over the light bouncing between them.
+void add_face_below(double r, double& tt, double& rb) {
+  const double k = 1.0 / (1.0 - r * rb);
+  tt = (1.0 - r) * tt * k;
+  rb = r + (1.0 - r) * (1.0 - r) * rb * k;
+}
+
+// The chance that light at depth z of layer l going straight up leaves through the top, with every
+// incoherent bounce between the column's index steps (all at normal incidence) summed.
+double FColumn::up_transmission(int l, double z, int wl) const {
+  // Above z: out through the top (tt) or back down to z (rb).
+  double tt = 1.0 - fresnel_normal(n_above, layers[0].n), rb = 1.0 - tt;
+  for (int j = 0; j < l; ++j) {
+    const double t = std::exp(-layers[j].mut[wl] * (layers[j].bottom - layers[j].top));
+    tt *= t;
+    rb *= t * t;
+    add_face_below(fresnel_normal(layers[j].n, layers[j + 1].n), tt, rb);
+  }
+  const double tz = std::exp(-layers[l].mut[wl] * (z - layers[l].top));
+  tt *= tz;
+  rb *= tz * tz;
+  // Below z: what comes back up to z from the faces beneath it.
+  double rd = open_bottom ? fresnel_normal(layers.back().n, n_below) : 0.0;
+  for (int j = int(layers.size()) - 1; j > l; --j) {
+    const double t = std::exp(-layers[j].mut[wl] * (layers[j].bottom - layers[j].top));
+    rd *= t * t;
+    const double r = fresnel_normal(layers[j - 1].n, layers[j].n), k = 1.0 / (1.0 - r * rd);
+    rd = r + (1.0 - r) * (1.0 - r) * rd * k;
+  }
+  if (rd > 0) {
+    const double tb = std::isfinite(layers[l].bottom) ? std::exp(-layers[l].mut[wl] * (layers[l].bottom - z)) : 0.0;
+    rd *= tb * tb;
+  }
+  return tt / (1.0 - rb * rd);
+}
 
 FColumn column_from(const StackTables& st, int n) {
   if (st.bottom == StackBottom::kBase) throw std::invalid_argument("forward Monte Carlo: an opaque base is not modelled");
@@ -117,6 +161,12 @@ void scatter_hg(Photon& p, double g, Rng& rng) {
   p.dz = nz / len;
 }
 
+// Henyey-Greenstein density (per steradian) of turning by an angle of cosine mu.
+double hg_density(double g, double mu) {
+  const double d = 1.0 + g * g - 2.0 * g * mu;
+  return (1.0 - g * g) / (4.0 * kPiMc * d * std::sqrt(d));
+}
+
 void isotropic(Photon& p, Rng& rng) {
   const double c = 2.0 * rng.next_double() - 1.0, s = std::sqrt(std::max(0.0, 1.0 - c * c)), phi = 2.0 * kPiMc * rng.next_double();
   p.dx = s * std::cos(phi);
@@ -141,7 +191,8 @@ class Simulator {
   void check_matched() const;
   double wall_distance(const Photon& p) const;
   void trace(Photon p, Rng& rng, ForwardTally& t, std::vector<Photon>& children) const;
-  bool collide(Photon& p, const FLayer& L, Rng& rng, std::vector<Photon>& children) const;
+  bool collide(Photon& p, const FColumn& c, int l, Rng& rng, ForwardTally& t, std::vector<Photon>& children) const;
+  void tally_normal(const Photon& p, const FColumn& c, int l, double density, ForwardTally& t) const;
   enum class Crossing { kLeft, kReflected, kRefracted };
   Crossing boundary(Photon& p, const FColumn& c, int l, Rng& rng, ForwardTally& t) const;
   void tally_exit(const Photon& p, double cos_air, ForwardTally& t) const;
@@ -193,6 +244,18 @@ void Simulator::tally_exit(const Photon& p, double cos_air, ForwardTally& t) con
   if (cos_air > s_.narrow_cos) (p.fluorescent ? t.fluor_narrow : t.elastic_narrow)[i] += p.w;
 }
 
+// The local estimate of the light leaving along the normal (forward_mc.h): the photon, at depth
+// p.z of layer l of column c, turns straight up with `density` per steradian in the layer.
+void Simulator::tally_normal(const Photon& p, const FColumn& c, int l, double density, ForwardTally& t) const {
+  const double r = std::hypot(p.x, p.y);
+  const auto& e = s_.ring_edges;
+  if (e.size() < 2 || r < e.front() || r >= e.back()) return;
+  const size_t ring = size_t(std::upper_bound(e.begin(), e.end(), r) - e.begin()) - 1;
+  const double solid_angle = (c.n_above / c.layers[l].n) * (c.n_above / c.layers[l].n);
+  const double v = p.w * density * c.up_transmission(l, p.z, p.wl) * solid_angle;
+  (p.fluorescent ? t.fluor_normal : t.elastic_normal)[ring * s_.n + p.wl] += v;
+}
+
 // At a horizontal face of layer l of column c: reflect, refract into the next layer, or leave
 // (top: tallied; bottom: lost).
 Simulator::Crossing Simulator::boundary(Photon& p, const FColumn& c, int l, Rng& rng, ForwardTally& t) const {
@@ -237,7 +300,7 @@ void Simulator::trace(Photon p, Rng& rng, ForwardTally& t, std::vector<Photon>& 
       p.x += d * p.dx;
       p.y += d * p.dy;
       p.z = std::clamp(p.z + d * p.dz, L.top, L.bottom);
-      if (!collide(p, L, rng, children)) return;
+      if (!collide(p, c, l, rng, t, children)) return;
       continue;
     }
     if (!std::isfinite(tb)) return;  // horizontal in a clear semi-infinite layer
@@ -265,8 +328,10 @@ void Simulator::trace(Photon p, Rng& rng, ForwardTally& t, std::vector<Photon>& 
 // absorbed excitation photon always leaves a fluorescence child carrying the probability kappa / mu_a
 // that the absorption re-emits (at a bin drawn from the layer's re-emission), isotropic. Returns
 // whether the photon goes on.
-bool Simulator::collide(Photon& p, const FLayer& L, Rng& rng, std::vector<Photon>& children) const {
+bool Simulator::collide(Photon& p, const FColumn& c, int l, Rng& rng, ForwardTally& t, std::vector<Photon>& children) const {
+  const FLayer& L = c.layers[l];
   if (rng.next_double() * L.mut[p.wl] < L.mus[p.wl]) {
+    tally_normal(p, c, l, hg_density(L.g, -p.dz), t);  // up is (0, 0, -1)
     scatter_hg(p, L.g, rng);
     return true;
   }
@@ -278,6 +343,7 @@ bool Simulator::collide(Photon& p, const FLayer& L, Rng& rng, std::vector<Photon
     const double* cdf = &L.em_cdf[size_t(p.wl) * s_.n];
     ch.wl = std::min(int(std::upper_bound(cdf, cdf + s_.n, rng.next_double()) - cdf), s_.n - 1);
     isotropic(ch, rng);
+    tally_normal(ch, c, l, 1.0 / (4.0 * kPiMc), t);
     children.push_back(ch);
   }
   return false;
@@ -339,11 +405,15 @@ void ForwardTally::add(const ForwardTally& o) {
   acc(fluor_cone, o.fluor_cone);
   acc(elastic_narrow, o.elastic_narrow);
   acc(fluor_narrow, o.fluor_narrow);
+  acc(elastic_normal, o.elastic_normal);
+  acc(fluor_normal, o.fluor_normal);
 }
 
 // Every tally of t zeroed, `cells` long.
 void clear_tally(ForwardTally& t, size_t cells) {
-  for (auto* v : {&t.elastic, &t.fluor, &t.elastic_cone, &t.fluor_cone, &t.elastic_narrow, &t.fluor_narrow}) v->assign(cells, 0.0);
+  for (auto* v : {&t.elastic, &t.fluor, &t.elastic_cone, &t.fluor_cone, &t.elastic_narrow, &t.fluor_narrow, &t.elastic_normal,
+                  &t.fluor_normal})
+    v->assign(cells, 0.0);
 }
 
 ForwardTally run_forward_mc(const ForwardSetup& s, long long photons, uint64_t seed) {

@@ -11,6 +11,17 @@
 // the top is tallied by where it leaves (distance from the z axis), its wavelength bin and whether
 // it is fluorescence, in all directions and within two cones around the normal.
 //
+// The light leaving along the normal itself (what a camera straight above sees) is estimated
+// without a cone, by a local estimate: at every scattering and at every fluorescence birth the
+// photon adds its weight times the chance density (per unit solid angle in air) that it turns
+// straight up and gets out, at the point above it. That chance is the phase function towards the
+// normal (Henyey-Greenstein, or 1 / 4 pi for an emission) times the vertical transmission of the
+// column above, with the incoherent inter-reflections between index steps summed in closed form
+// (normal-incidence Fresnel at each step), times (n_air / n_layer)^2 for the solid angle's change
+// through the faces. Summed over photons it is the radiance along the normal per unit incident
+// flux, so pi * sum / photons is the radiance factor of uniform light (docs/layered-tissue.md,
+// "How it was checked").
+//
 // Lengths are millimetres; layers are given per column (outside / inside the cylinder) on the
 // renderer's wavelength grid (from its stack tables, which are inputs here, not the walk). The
 // two columns must have the same refractive index at every depth (the cylinder wall does not
@@ -51,8 +62,9 @@ struct ForwardSetup {
 struct ForwardTally {
   long long photons = 0;
   // [ring * n + bin] photon weight leaving (all directions / within the cone / within the narrow
-  // cone), elastic and fluorescent.
-  std::vector<double> elastic, fluor, elastic_cone, fluor_cone, elastic_narrow, fluor_narrow;
+  // cone), elastic and fluorescent; and the local estimate of the weight per unit solid angle (in
+  // air) leaving along the normal.
+  std::vector<double> elastic, fluor, elastic_cone, fluor_cone, elastic_narrow, fluor_narrow, elastic_normal, fluor_normal;
   void add(const ForwardTally& o);
 };
 
