@@ -1,15 +1,16 @@
 #!/usr/bin/env bash
 # Writes benchmarks/results.d/41_spatial.md: the spatial (lateral) transport of layered tissue
 # against MCML's radial profiles, against the independent forward photon Monte Carlo (fluorescence
-# under a pencil beam; lesion discs of 0.25-5 mm in healthy tissue, rendered), and what it costs on
-# the dark-spot scene. Usage: benchmarks/spatial_results.sh [build-dir]   (about 2 hours on 2 cores)
+# under a pencil beam), and what it costs on the dark-spot scene. The lesion discs (rendered against
+# the 3D Monte Carlo) are benchmarks/lesion_results.sh's, with the volume walk's.
+# Usage: benchmarks/spatial_results.sh [build-dir]   (about 10 minutes on 2 cores)
 set -euo pipefail
 build=${1:-build}
 root=$(cd "$(dirname "$0")/.." && pwd)
 out="$root/benchmarks/results.d/41_spatial.md"
 tmp=$(mktemp -d)
 ofl="$build/oralfluor"
-for c in $("$ofl" bench --list | awk '{print $1}' | grep -E '^(mcml_radial_|spatial_)'); do
+for c in $("$ofl" bench --list | awk '{print $1}' | grep -E '^(mcml_radial_|spatial_)' | grep -v '_lesion_'); do
   "$ofl" bench "$c" --json > "$tmp/$c.json" 2> "$tmp/$c.err" || true
 done
 "$build/spatial_cost" --spp 32 --width 192 --json > "$tmp/cost.json"
@@ -55,27 +56,7 @@ for i in range(len(edges) - 1):
     se = (e["spatial"]["se"][i] ** 2 + e["forward_mc"]["se"][i] ** 2) ** 0.5
     print(f"| {edges[i]:.2f}-{edges[i+1]:.2f} | {a:.4f} | {b:.4f} | {(a - b) / se if se > 0 else 0:+.1f} |")
 print()
-print("### Lesion discs in lateral_tongue, lit uniformly (rendered, against the 3D forward Monte Carlo)")
-print()
-print("Contrast = the lesion scene's signal over healthy tissue's, per ring around the disc's centre; the "
-      "Monte Carlo counts light leaving within 37 degrees of the normal (the camera looks straight down). "
-      "Checks: every ring within 2 % or 3 combined standard errors.")
-print()
-print("| case | band | centre: spatial / Monte Carlo / position-free | worst ring: spatial - Monte Carlo (s.e.) | worst ring, position-free - Monte Carlo | pass |")
-print("|---|---|---|---|---|---|")
-for f in sorted(glob.glob(f"{tmp}/spatial_lesion_*.json")):
-    d = json.load(open(f))
-    x = d["extra"]
-    bands = [q["quantity"].split(",")[0] for q in d["checks"]]
-    names = list(dict.fromkeys(bands))
-    for b, name in enumerate(names):
-        sp, mc, pf = x["spatial"]["contrast"][b], x["forward_mc"]["contrast"][b], x["position_free"]["contrast"][b]
-        se = [(x["spatial"]["se"][b][k] ** 2 + x["forward_mc"]["se"][b][k] ** 2) ** 0.5 for k in range(len(sp))]
-        k = max(range(len(sp)), key=lambda k: abs(sp[k] - mc[k]) / max(se[k], 1e-12))
-        j = max(range(len(sp)), key=lambda j: abs(pf[j] - mc[j]))
-        ok = all(q["pass"] for q in d["checks"] if q["quantity"].startswith(name))
-        print(f"| {d['case'][15:]} | {name.split(' ', 1)[1]} | {sp[0]:.3f} / {mc[0]:.3f} / {pf[0]:.3f} | "
-              f"{sp[k] - mc[k]:+.3f} ({(sp[k] - mc[k]) / se[k]:+.1f}) | {pf[j] - mc[j]:+.3f} | {'yes' if ok else 'NO'} |")
+print("The lesion discs, rendered against the 3D forward Monte Carlo: results.d/42_lesions.md (`benchmarks/lesion_results.sh`).")
 print()
 c = json.load(open(f"{tmp}/cost.json"))
 print("### Cost on the dark-spot scene (`build/spatial_cost --spp 32 --width 192`)")

@@ -1,9 +1,10 @@
 """Edge profiles of the blood-spot discs: volume walk, spatial transport, position-free table and the
-3D Monte Carlo (within 37 and 14 degrees of the normal), per ring, 440-460 nm and 540-580 nm.
+3D Monte Carlo (its radiance along the normal, the reference, and its light within 37 degrees of the
+normal, the reference before 2026-11-27), per ring, 440-460 nm and 540-580 nm.
 
 Usage: python3 benchmarks/volume_edges.py RUNS_DIR OUT.png
-RUNS_DIR holds `oralfluor bench <case> --json` results named <case>.json (benchmarks/volume_results.sh
-keeps them in benchmarks/results.d/volume_runs): volume_lesion_blood_spot_<a> and
+RUNS_DIR holds `oralfluor bench <case> --json` results named <case>.json (benchmarks/lesion_results.sh
+keeps them in benchmarks/results.d/lesion_runs): volume_lesion_blood_spot_<a> and
 spatial_lesion_blood_spot_<a> for a = 1mm and 5mm.
 """
 import json
@@ -28,10 +29,11 @@ def main(runs, out):
         for row, (b, name) in enumerate([(0, "440-460 nm"), (1, "540-580 nm")]):
             ax = axes[row][col]
             mc = vol["forward_mc"]
-            ax.errorbar(mid, mc["contrast"][b], yerr=mc["se"][b], fmt="o", color="black", ms=3, label="Monte Carlo, 37 deg")
-            if sp is not None and "within_14_degrees" in sp["forward_mc"]:
-                n = sp["forward_mc"]["within_14_degrees"]
-                ax.errorbar(mid, n["contrast"][b], yerr=n["se"][b], fmt="s", color="gray", ms=3, label="Monte Carlo, 14 deg")
+            ax.errorbar(mid, mc["contrast"][b], yerr=mc["se"][b], fmt="o", color="black", ms=3, label="Monte Carlo, along the normal")
+            if "within_37_degrees" in mc:
+                w = mc["within_37_degrees"]
+                ax.errorbar(mid, w["contrast"][b], yerr=w["se"][b], fmt="s", color="gray", mfc="none", ms=3,
+                            label="Monte Carlo, within 37 deg")
             ax.errorbar(mid, vol["volume"]["contrast"][b], yerr=vol["volume"]["se"][b], fmt="-", color="tab:red", label="volume walk")
             if sp is not None:
                 ax.plot(mid, sp["spatial"]["contrast"][b], "-", color="tab:blue", label="spatial")
