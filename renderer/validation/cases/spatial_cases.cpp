@@ -402,8 +402,9 @@ Contrast rendered_contrast(const LesionCase& c, const std::string& transport, in
 // normal (the camera of these cases looks straight down, within half a degree), from the Monte
 // Carlo's local estimate (forward_mc.h), per unit area of ring, over the healthy tissue's (a run
 // without the disc). Lesion and healthy tissue send their light into different angles, so exitance
-// would not do, and neither quite does a cone: within 37 degrees the blood spot's edge read 0.48
-// where along the normal it is 0.42. For reflectance each band is run on its own, the source
+// would not do, and neither quite does a cone: just inside the 1 mm blood spot's edge the light
+// within 37 degrees of the normal read 0.48, within 14 degrees 0.42 (docs/layered-tissue.md, "How it
+// was checked"). For reflectance each band is run on its own, the source
 // restricted to the band's bins (the light is flat); fluorescence bands share one run of the 405 nm
 // LED. The profiles of the light leaving in all directions, within 37 and within 14 degrees of the
 // normal (photon counts) are kept beside.
