@@ -15,11 +15,13 @@
 
 #include <cmath>
 #include <cstring>
+#include <limits>
 
 #include "renderer/core/errors/error.h"
 #include "renderer/core/files/json_node.h"
 #include "renderer/render/render_job.h"
 #include "renderer/render/trace/embree_scene.h"
+#include "renderer/render/trace/rng.h"
 #include "image_band_means.h"
 #include "sanitizer_scale.h"
 
@@ -160,6 +162,47 @@ TEST(LayeredVolume, UvGradientOfAQuadIsItsInverseSize) {
     const SurfacePoint b = es.surface(h2, o2, glm::dvec3(0, 0, -1));
     EXPECT_NEAR(b.uv.x, a.uv.x + glm::dot(g.u, b.p - a.p), 1e-5);
     EXPECT_NEAR(b.uv.y, a.uv.y + glm::dot(g.v, b.p - a.p), 1e-5);
+  }
+}
+
+// The clearance the walk skips region reads within: the distance to the nearest sphere of the
+// regions material (closed form), infinite without regions, 0 where a texture mask decides; and
+// within it resolve_material's answer indeed does not change.
+TEST(LayeredVolume, RegionClearanceIsTheDistanceToTheNearestSphere) {
+  const json mats = discs({{"type", "layered_tissue"}, {"preset", "lateral_tongue"}}, {{"type", "layered_tissue"}, {"preset", "blood_spot"}});
+  const Scene sc = load_scene(JsonFile::from(patch_scene(mats, "t", 1, 4), "clearance.json"));
+  int regions = -1, plain = -1;
+  for (size_t m = 0; m < sc.materials.size(); ++m) (sc.materials[m].dispatches() ? regions : plain) = int(m);
+  ASSERT_GE(regions, 0);
+  ASSERT_GE(plain, 0);
+  const double inf = std::numeric_limits<double>::infinity();
+  EXPECT_EQ(region_clearance_m(sc, plain, glm::dvec3(0.0)), inf);
+  // Spheres (centre x, y, radius in m) as discs() places them, all at z = 0.
+  const double sph[3][3] = {{0.0008, 0.0, 0.0005}, {-0.0012, 0.0009, 0.0004}, {0.0, -0.0013, 0.0003}};
+  Rng rng(11, 0);
+  for (int i = 0; i < 200; ++i) {
+    const glm::dvec3 p(0.006 * rng.next_double() - 0.003, 0.006 * rng.next_double() - 0.003, 0.0);
+    double want = inf;
+    for (const auto& c : sph) want = std::min(want, std::abs(std::hypot(p.x - c[0], p.y - c[1]) - c[2]));
+    const double got = region_clearance_m(sc, regions, p);
+    ASSERT_NEAR(got, want, 1e-12);
+    // Points just inside the clearance resolve as p does.
+    const int here = resolve_material(sc, regions, 0.5f, 0.5f, p);
+    for (int k = 0; k < 8; ++k) {
+      const double a = 6.283185307179586 * k / 8.0, r = 0.999 * got;
+      EXPECT_EQ(resolve_material(sc, regions, 0.5f, 0.5f, p + glm::dvec3(r * std::cos(a), r * std::sin(a), 0.0)), here);
+    }
+  }
+  // A texture mask gives no bound.
+  json tex = mats;
+  tex["t"]["regions"][0] = {{"mask", "assets/textures/tongue_lesion.png"}, {"threshold", 0.5}, {"material", "inside"}};
+  json j = patch_scene(tex, "t", 1, 4);
+  try {
+    const Scene st = load_scene(JsonFile::from(j, std::string(OFL_SOURCE_DIR) + "/clearance_tex.json"));
+    for (size_t m = 0; m < st.materials.size(); ++m)
+      if (st.materials[m].dispatches()) EXPECT_EQ(region_clearance_m(st, int(m), glm::dvec3(0.0)), 0.0);
+  } catch (const std::exception& e) {
+    FAIL() << e.what();
   }
 }
 

@@ -92,6 +92,10 @@ Scene load_scene(const std::filesystem::path& file, const SceneOverrides& overri
 // The material at a surface point: a "regions" material resolves to the material its masks give at
 // (u, v) or its spheres give at p; any other material is itself.
 int resolve_material(const Scene& scene, int material, float u, float v, const glm::dvec3& p);
+// A lower bound, in metres, on the distance from p to the nearest point where resolve_material's
+// answer can change: the distance to the nearest sphere of a "regions" material (infinite for a
+// material without regions), 0 when a texture mask decides (no bound without a distance map).
+double region_clearance_m(const Scene& scene, int material, const glm::dvec3& p);
 Scene load_scene(const JsonFile& doc, const SceneOverrides& overrides = {});
 
 }  // namespace ofl

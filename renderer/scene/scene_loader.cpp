@@ -2,6 +2,7 @@
 // "materials" (name -> material), "geometry" (list), "lights" (list). See docs/scene-format.md.
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <cstdio>
 #include <set>
 #include <string>
@@ -204,6 +205,19 @@ int resolve_material(const Scene& sc, int material, float u, float v, const glm:
     }
   }
   return m.regions_base;
+}
+
+double region_clearance_m(const Scene& sc, int material, const glm::dvec3& p) {
+  if (material < 0) return std::numeric_limits<double>::infinity();
+  const Material& m = sc.materials[material];
+  if (!m.dispatches()) return std::numeric_limits<double>::infinity();
+  double clear = std::numeric_limits<double>::infinity();
+  for (const auto& r : m.regions) {
+    if (!r.sphere) return 0.0;
+    const glm::dvec3 d = p - glm::dvec3(r.centre_m[0], r.centre_m[1], r.centre_m[2]);
+    clear = std::min(clear, std::abs(glm::length(d) - r.radius_m));
+  }
+  return clear;
 }
 
 Scene load_scene(const std::filesystem::path& file, const SceneOverrides& ov) { return load_scene(JsonFile::load(file), ov); }

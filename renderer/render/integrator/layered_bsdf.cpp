@@ -338,7 +338,8 @@ struct NeeRef {
 
 // The materials one volume walk can visit (a further one counts as the material the walk is in).
 constexpr int kMaxVolumeMaterials = 8;
-// The walk's lateral track is read every kLateralStep mm for a change of material, and a change
+// The walk's lateral track is read every kLateralStep mm for a change of material (beyond the
+// clearance LateralMaterials gives around the flight's start, where none can happen), and a change
 // is located by bisection to kLateralPrecision mm; a flight parallel to the layers is read out to
 // kLateralReach mm.
 constexpr double kLateralStep = 0.01;
@@ -398,10 +399,14 @@ class VolumeWalk final : public ExcitationWalks {
       const double speed = glm::length(dxy);  // lateral mm per mm of flight
       if (!(speed > 1e-12)) return std::numeric_limits<double>::infinity();
       const double tmax = std::min(t, kLateralReach / speed);
-      const int steps = std::max(1, int(std::ceil(tmax * speed / kLateralStep)));
-      double lo = 0;
+      // Within the clearance around the flight's start the material cannot change: no reads there.
+      const double clear = walk.ctx_.under->clearance(s.pos) / speed;
+      if (clear >= tmax) return std::numeric_limits<double>::infinity();
+      const double from = clear;
+      const int steps = std::max(1, int(std::ceil((tmax - from) * speed / kLateralStep)));
+      double lo = from;
       for (int i = 1; i <= steps; ++i) {
-        const double hi = tmax * i / steps;
+        const double hi = from + (tmax - from) * i / steps;
         if (walk.slot_under(s.pos + hi * dxy, slot) == slot) {
           lo = hi;
           continue;

@@ -50,6 +50,9 @@ class LateralMaterials {
   // The render tables' material index under the point of the vertex's tangent plane at offset
   // `pos` (mm along the local frame's x and y axes).
   virtual int material_at(const glm::dvec2& pos) const = 0;
+  // A lower bound, in mm, on the distance from `pos` to the nearest point where material_at can
+  // change (0: none known, every step of a flight is read).
+  virtual double clearance(const glm::dvec2& /*pos*/) const { return 0.0; }
 };
 
 // What the volume walk needs beyond the vertex's own material.

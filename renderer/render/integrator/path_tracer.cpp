@@ -32,6 +32,9 @@ class TangentPlaneRegions final : public LateralMaterials {
     const glm::vec2 uv = uv_ + glm::vec2(float(glm::dot(g_.u, d)), float(glm::dot(g_.v, d)));
     return resolve_material(sc_, base_, uv.x, uv.y, p_ + d);
   }
+  double clearance(const glm::dvec2& pos) const override {
+    return region_clearance_m(sc_, base_, p_ + pos.x * x_ + pos.y * y_) * kMmPerMetre;
+  }
 
  private:
   const Scene& sc_;
