@@ -33,6 +33,12 @@ struct FColumn {
       if (z < layers[l].bottom) return int(l);
     return int(layers.size()) - 1;
   }
+  // The vertical passage out through the top, made once per layer and bin (up_transmission):
+  // just below the top face of layer l, the chance to leave through the top (up_out) and to come
+  // back down (up_back); just above its bottom face, the chance to come back up (down_back).
+  int nbins = 0;
+  std::vector<double> up_out, up_back, down_back;  // [l * nbins + bin]
+  void tabulate_vertical(int n);
   double up_transmission(int l, double z, int wl) const;
 };
 
@@ -42,36 +48,48 @@ double fresnel_normal(double n1, double n2) {
   return r * r;
 }
 
-// A face of reflectance r put beneath a part of the stack that, seen from below, sends back rb and
-// lets out through the top tt: the sums over the light bouncing between them.
-void add_face_below(double r, double& tt, double& rb) {
-  const double k = 1.0 / (1.0 - r * rb);
-  tt = (1.0 - r) * tt * k;
-  rb = r + (1.0 - r) * (1.0 - r) * rb * k;
+// Light bouncing between a face of reflectance r and what lies beyond it, which sends back
+// `beyond`: the reflectance of the two together, seen from the face's near side.
+double reflect_with_face(double r, double beyond) { return r + (1.0 - r) * (1.0 - r) * beyond / (1.0 - r * beyond); }
+
+void FColumn::tabulate_vertical(int n) {
+  const int L = int(layers.size());
+  nbins = n;
+  up_out.assign(size_t(L) * n, 0.0);
+  up_back.assign(size_t(L) * n, 0.0);
+  down_back.assign(size_t(L) * n, 0.0);
+  auto through = [&](int j, int w) { return std::exp(-layers[j].mut[w] * (layers[j].bottom - layers[j].top)); };
+  for (int w = 0; w < n; ++w) {
+    double tt = 1.0 - fresnel_normal(n_above, layers[0].n), rb = 1.0 - tt;
+    for (int l = 0; l < L; ++l) {
+      if (l > 0) {  // through layer l - 1, then the face between it and layer l
+        const double t = through(l - 1, w), r = fresnel_normal(layers[l - 1].n, layers[l].n);
+        tt *= t;
+        rb *= t * t;
+        tt = (1.0 - r) * tt / (1.0 - r * rb);
+        rb = reflect_with_face(r, rb);
+      }
+      up_out[size_t(l) * n + w] = tt;
+      up_back[size_t(l) * n + w] = rb;
+    }
+    double rd = open_bottom ? fresnel_normal(layers.back().n, n_below) : 0.0;
+    for (int l = L - 1; l >= 0; --l) {
+      if (l < L - 1) {  // through layer l + 1, then the face between layer l and it
+        const double t = through(l + 1, w);
+        rd = reflect_with_face(fresnel_normal(layers[l].n, layers[l + 1].n), rd * t * t);
+      }
+      down_back[size_t(l) * n + w] = rd;
+    }
+  }
 }
 
 // The chance that light at depth z of layer l going straight up leaves through the top, with every
 // incoherent bounce between the column's index steps (all at normal incidence) summed.
 double FColumn::up_transmission(int l, double z, int wl) const {
-  // Above z: out through the top (tt) or back down to z (rb).
-  double tt = 1.0 - fresnel_normal(n_above, layers[0].n), rb = 1.0 - tt;
-  for (int j = 0; j < l; ++j) {
-    const double t = std::exp(-layers[j].mut[wl] * (layers[j].bottom - layers[j].top));
-    tt *= t;
-    rb *= t * t;
-    add_face_below(fresnel_normal(layers[j].n, layers[j + 1].n), tt, rb);
-  }
+  const size_t i = size_t(l) * nbins + wl;
   const double tz = std::exp(-layers[l].mut[wl] * (z - layers[l].top));
-  tt *= tz;
-  rb *= tz * tz;
-  // Below z: what comes back up to z from the faces beneath it.
-  double rd = open_bottom ? fresnel_normal(layers.back().n, n_below) : 0.0;
-  for (int j = int(layers.size()) - 1; j > l; --j) {
-    const double t = std::exp(-layers[j].mut[wl] * (layers[j].bottom - layers[j].top));
-    rd *= t * t;
-    const double r = fresnel_normal(layers[j - 1].n, layers[j].n), k = 1.0 / (1.0 - r * rd);
-    rd = r + (1.0 - r) * (1.0 - r) * rd * k;
-  }
+  const double tt = up_out[i] * tz, rb = up_back[i] * tz * tz;
+  double rd = down_back[i];
   if (rd > 0) {
     const double tb = std::isfinite(layers[l].bottom) ? std::exp(-layers[l].mut[wl] * (layers[l].bottom - z)) : 0.0;
     rd *= tb * tb;
@@ -114,6 +132,7 @@ FColumn column_from(const StackTables& st, int n) {
     }
     c.layers.push_back(std::move(f));
   }
+  c.tabulate_vertical(n);
   return c;
 }
 
@@ -195,6 +214,7 @@ class Simulator {
   void tally_normal(const Photon& p, const FColumn& c, int l, double density, ForwardTally& t) const;
   enum class Crossing { kLeft, kReflected, kRefracted };
   Crossing boundary(Photon& p, const FColumn& c, int l, Rng& rng, ForwardTally& t) const;
+  int ring_of(const Photon& p) const;  // the tally ring p is over, -1 outside them
   void tally_exit(const Photon& p, double cos_air, ForwardTally& t) const;
 
   const ForwardSetup& s_;
@@ -233,12 +253,17 @@ double Simulator::wall_distance(const Photon& p) const {
   return kInf;
 }
 
-void Simulator::tally_exit(const Photon& p, double cos_air, ForwardTally& t) const {
+int Simulator::ring_of(const Photon& p) const {
   const double r = std::hypot(p.x, p.y);
   const auto& e = s_.ring_edges;
-  if (e.size() < 2 || r < e.front() || r >= e.back()) return;
-  const size_t ring = size_t(std::upper_bound(e.begin(), e.end(), r) - e.begin()) - 1;
-  const size_t i = ring * s_.n + p.wl;
+  if (e.size() < 2 || r < e.front() || r >= e.back()) return -1;
+  return int(std::upper_bound(e.begin(), e.end(), r) - e.begin()) - 1;
+}
+
+void Simulator::tally_exit(const Photon& p, double cos_air, ForwardTally& t) const {
+  const int ring = ring_of(p);
+  if (ring < 0) return;
+  const size_t i = size_t(ring) * s_.n + p.wl;
   (p.fluorescent ? t.fluor : t.elastic)[i] += p.w;
   if (cos_air > s_.cone_cos) (p.fluorescent ? t.fluor_cone : t.elastic_cone)[i] += p.w;
   if (cos_air > s_.narrow_cos) (p.fluorescent ? t.fluor_narrow : t.elastic_narrow)[i] += p.w;
@@ -247,13 +272,11 @@ void Simulator::tally_exit(const Photon& p, double cos_air, ForwardTally& t) con
 // The local estimate of the light leaving along the normal (forward_mc.h): the photon, at depth
 // p.z of layer l of column c, turns straight up with `density` per steradian in the layer.
 void Simulator::tally_normal(const Photon& p, const FColumn& c, int l, double density, ForwardTally& t) const {
-  const double r = std::hypot(p.x, p.y);
-  const auto& e = s_.ring_edges;
-  if (e.size() < 2 || r < e.front() || r >= e.back()) return;
-  const size_t ring = size_t(std::upper_bound(e.begin(), e.end(), r) - e.begin()) - 1;
+  const int ring = ring_of(p);
+  if (ring < 0) return;
   const double solid_angle = (c.n_above / c.layers[l].n) * (c.n_above / c.layers[l].n);
   const double v = p.w * density * c.up_transmission(l, p.z, p.wl) * solid_angle;
-  (p.fluorescent ? t.fluor_normal : t.elastic_normal)[ring * s_.n + p.wl] += v;
+  (p.fluorescent ? t.fluor_normal : t.elastic_normal)[size_t(ring) * s_.n + p.wl] += v;
 }
 
 // At a horizontal face of layer l of column c: reflect, refract into the next layer, or leave
