@@ -420,7 +420,10 @@ void SpatialTransport::elastic_values(const Vertex& v, const Entry& e, double mu
 // (docs/layered-tissue.md, "Regions and lateral transport"): the path goes down through the layers
 // that tell the materials apart under x_i, along the chord, and up through them under x_o, so each
 // end's material counts the depth L over which the chord's materials differ (at most kPassageMm)
-// once, on top of its share of the chord: share_m = (L [m = mi] + L [m = mo] + r share_m) / (2 L + r).
+// once, on top of its share of the chord. Between the passages the light runs deeper the further
+// apart the ends are (about r / 2 at the middle), below the layers that differ, so the chord counts
+// with the length c = r / (1 + r / (2 L)) it spends among them (r when short, 2 L at most):
+// share_m = (L [m = mi] + L [m = mo] + c share_m) / (2 L + c).
 // Symmetric in the two ends (reciprocal); with nothing to cross, the chord itself.
 SpatialTransport::Chord SpatialTransport::crossing_shares(const Chord& chord, int mo, int mi, double r_mm) const {
   const size_t n = scene_.materials.size();
@@ -438,8 +441,8 @@ SpatialTransport::Chord SpatialTransport::crossing_shares(const Chord& chord, in
     c.share[c.n] = 0.0;
     return c.n++;
   };
-  const double r = std::max(r_mm, 0.0), total = 2.0 * L + r;
-  for (int j = 0; j < c.n; ++j) c.share[j] *= r / total;
+  const double r = std::max(r_mm, 0.0), along = chord_among_passages_mm(r, L), total = 2.0 * L + along;
+  for (int j = 0; j < c.n; ++j) c.share[j] *= along / total;
   for (int end : {mo, mi})
     if (int j = spatial_material(end) ? slot(end) : -1; j >= 0) c.share[j] += L / total;
   double sum = 0;

@@ -52,6 +52,11 @@ constexpr double kPassageMm = 1.0;
 // differ in thickness, index, anisotropy, absorption, scattering or fluorophores), read at 0.01 mm
 // steps: the length of the vertical passage through the layers that tell two regions apart.
 double differing_depth_mm(const LayerStack& a, const LayerStack& b);
+// The length of a chord of r mm between two ends that a path spends among the layers of depth
+// L mm that tell two regions apart: r when r is short against L; the light between the ends of a
+// long path runs about r / 2 deep, below those layers, so at most 2 L (docs/layered-tissue.md,
+// "Regions and lateral transport"). 0 when L is 0.
+inline double chord_among_passages_mm(double r, double L) { return L > 0 ? r / (1.0 + r / (2.0 * L)) : 0.0; }
 
 class SpatialTransport {
  public:
