@@ -426,12 +426,41 @@ void SpatialTransport::elastic_values(const Vertex& v, const Entry& e, double mu
 // share_m = (L [m = mi] + L [m = mo] + c share_m) / (2 L + c).
 // Symmetric in the two ends (reciprocal); with nothing to cross, the chord itself.
 SpatialTransport::Chord SpatialTransport::crossing_shares(const Chord& chord, int mo, int mi, double r_mm) const {
+  const double L = std::max(passage_among(chord, mo, mi), passage_among(chord, mi, mo));
+  if (!(L > 0)) return chord;
+  const int ends[2] = {mo, mi};
+  return with_passages(chord, ends, 2, L, chord_among_passages_mm(std::max(r_mm, 0.0), L));
+}
+
+// The shares of a fluorescence leg of rho_mm between its surface end (material `surface`: x_o for
+// the emission leg, x_i for the excitation leg) and the emission point at depth z_mm
+// (docs/layered-tissue.md, "Regions and lateral transport"): the leg passes through the layers that
+// tell the materials apart (L deep) under its surface end only, over min(z, L); of its chord the
+// part among those layers is rho L / (L + z): the whole chord for an emission at the surface, less
+// the deeper the emission.
+SpatialTransport::Chord SpatialTransport::leg_shares(const Chord& chord, int surface, int emitter, double rho_mm,
+                                                     double z_mm) const {
+  const double L = passage_among(chord, surface, emitter);
+  if (!(L > 0)) return chord;
+  const double z = std::max(z_mm, 0.0);
+  return with_passages(chord, &surface, 1, std::min(z, L), std::max(rho_mm, 0.0) * L / (L + z));
+}
+
+// The deepest passage (mm) between material `end` and the other end's or any material of the chord.
+double SpatialTransport::passage_among(const Chord& chord, int end, int other) const {
   const size_t n = scene_.materials.size();
   auto pair = [&](int a, int b) { return a >= 0 && b >= 0 ? passage_mm_[size_t(a) * n + size_t(b)] : 0.0; };
-  double L = 0;
-  for (int j = 0; j < chord.n; ++j) L = std::max({L, pair(mo, chord.material[j]), pair(mi, chord.material[j])});
-  L = std::max(L, pair(mo, mi));
-  if (!(L > 0)) return chord;
+  double L = pair(end, other);
+  for (int j = 0; j < chord.n; ++j) L = std::max(L, pair(end, chord.material[j]));
+  return L;
+}
+
+// The chord's shares with each end's material counting a passage of `passage` mm and the chord
+// `along` mm: share_m = (passage * [ends of material m] + along * chord share_m) / (passage * ends + along).
+SpatialTransport::Chord SpatialTransport::with_passages(const Chord& chord, const int* ends, int n_ends, double passage,
+                                                        double along) const {
+  const double total = n_ends * passage + along;
+  if (!(total > 0)) return chord;
   Chord c = chord;
   auto slot = [&](int m) {
     for (int j = 0; j < c.n; ++j)
@@ -441,10 +470,9 @@ SpatialTransport::Chord SpatialTransport::crossing_shares(const Chord& chord, in
     c.share[c.n] = 0.0;
     return c.n++;
   };
-  const double r = std::max(r_mm, 0.0), along = chord_among_passages_mm(r, L), total = 2.0 * L + along;
   for (int j = 0; j < c.n; ++j) c.share[j] *= along / total;
-  for (int end : {mo, mi})
-    if (int j = spatial_material(end) ? slot(end) : -1; j >= 0) c.share[j] += L / total;
+  for (int i = 0; i < n_ends; ++i)
+    if (int j = spatial_material(ends[i]) ? slot(ends[i]) : -1; j >= 0) c.share[j] += passage / total;
   double sum = 0;
   for (int j = 0; j < c.n; ++j) sum += c.share[j];
   for (int j = 0; j < c.n; ++j) c.share[j] /= sum;
@@ -467,21 +495,25 @@ void SpatialTransport::fluorescent_crossing(const Vertex& v, const Entry& e, int
     return false;
   };
   if (!crosses(e.chord) && !crosses(e.ex_chord)) return;
+  const std::vector<double>& depths = leg_depth_edges();
+  const double z_mm = 0.5 * (depths[size_t(e.z)] + depths[size_t(e.z) + 1]);
+  const Chord em_leg = leg_shares(e.chord, v.xo.material, e.material, e.rho_m, z_mm);
+  const Chord ex_leg = leg_shares(e.ex_chord, e.xi.material, e.material, e.rho_i, z_mm);
   const SpatialStack& Sm = *t_.materials[e.material].stack.spatial;
   const auto co_m = Sm.cosines(v.mu_o), ci_m = Sm.cosines(mu_i);
   const double ex_m = Sm.excitation_fluence(group, ci_m, e.z) * Sm.excitation_density(group, ci_m, e.z, e.rho_i);
-  for (int j = 0; j < e.ex_chord.n; ++j) {
-    const int mj = e.ex_chord.material[j];
-    if (mj == e.material || !(e.ex_chord.share[j] > 0)) continue;
+  for (int j = 0; j < ex_leg.n; ++j) {
+    const int mj = ex_leg.material[j];
+    if (mj == e.material || !(ex_leg.share[j] > 0)) continue;
     const SpatialStack& Sj = *t_.materials[mj].stack.spatial;
     const auto ci = Sj.cosines(mu_i);
     const double ex = Sj.excitation_fluence(group, ci, e.z) * Sj.excitation_density(group, ci, e.z, e.rho_i);
-    const double ratio = ex_m > 0 ? std::pow(ex / ex_m, e.ex_chord.share[j]) : 0.0;
+    const double ratio = ex_m > 0 ? std::pow(ex / ex_m, ex_leg.share[j]) : 0.0;
     for (int k = 0; k < kLanes; ++k) out[k] *= ratio;
   }
-  for (int j = 0; j < e.chord.n; ++j) {
-    const int mj = e.chord.material[j];
-    if (mj == e.material || !(e.chord.share[j] > 0)) continue;
+  for (int j = 0; j < em_leg.n; ++j) {
+    const int mj = em_leg.material[j];
+    if (mj == e.material || !(em_leg.share[j] > 0)) continue;
     const SpatialStack& Sj = *t_.materials[mj].stack.spatial;
     const auto co = Sj.cosines(v.mu_o);
     for (int k = 0; k < kLanes; ++k) {
@@ -489,7 +521,7 @@ void SpatialTransport::fluorescent_crossing(const Vertex& v, const Entry& e, int
       const int em = v.p.wl[k];
       const double own = Sm.emission_fluence(co_m, em, e.z) * Sm.emission_density(co_m, em, e.z, e.rho_m);
       const double other = Sj.emission_fluence(co, em, e.z) * Sj.emission_density(co, em, e.z, e.rho_m);
-      out[k] *= own > 0 ? std::pow(other / own, e.chord.share[j]) : 0.0;
+      out[k] *= own > 0 ? std::pow(other / own, em_leg.share[j]) : 0.0;
     }
   }
 }

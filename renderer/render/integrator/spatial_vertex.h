@@ -85,6 +85,9 @@ class SpatialTransport {
   Entry sample_fluorescent(Vertex& v, Rng& rng, RayCounts& counts) const;
   void chord_materials(const Vertex& v, const SurfacePoint& a, const SurfacePoint& b, Chord& c) const;
   Chord crossing_shares(const Chord& chord, int mo, int mi, double r_mm) const;
+  Chord leg_shares(const Chord& chord, int surface, int emitter, double rho_mm, double z_mm) const;
+  double passage_among(const Chord& chord, int end, int other) const;
+  Chord with_passages(const Chord& chord, const int* ends, int n_ends, double passage, double along) const;
   void elastic_values(const Vertex& v, const Entry& e, double mu_i, double* f) const;
   void fluorescent_values(const Vertex& v, const MaterialTables& m, const Entry& e, const LightSample& ls, double rho_i,
                           double* f) const;
