@@ -25,9 +25,10 @@
 //    the chosen strategy's lanes (fluorescent lanes move to an excitation wavelength drawn from the
 //    table).
 // Across `regions`: reflected light takes the product of the crossed materials' BSSRDFs, each raised
-// to its share of the path from x_i to x_o (the segment between them plus a vertical passage at each
-// end through the layers that tell the materials apart); fluorescence the material at the emission point
-// (docs/layered-tissue.md, "Regions and lateral transport").
+// to its share of the path from x_i to x_o (a vertical passage at each end through the layers that
+// tell the materials apart, and the part of the segment between them that runs among those layers);
+// fluorescence the fluorophores at the emission point, each leg weighed the same way with one passage,
+// under its surface end (docs/layered-tissue.md, "Regions and lateral transport").
 #pragma once
 #include "renderer/render/integrator/render_tables.h"
 #include "renderer/render/trace/embree_scene.h"
