@@ -1,0 +1,172 @@
+// How the spatial transport weighs reflected light that crosses regions (docs/layered-tissue.md,
+// "Regions and lateral transport"), compared semi-analytically with other rules on the lesion discs'
+// runs. For each disc of `--preset` in lateral_tongue, band and ring of the runs in --runs
+// (`oralfluor bench spatial_lesion_<preset>_<a>mm --json`, written by benchmarks/lesion_results.sh),
+// the two presets' elastic exit profiles at the camera's cosine (straight above) are integrated over
+// the ring's exit points and every entry point under each rule, over the same integral for the
+// disc-free tissue. A rule's prediction of the ring is the rendered contrast plus (its integral minus
+// the shipped rule's); it is counted against the Monte Carlo's radiance along the normal as the bench
+// case counts (within 2 % or 3 combined standard errors). One wavelength stands for each band (450,
+// 560, 630 nm), the light's direction is taken as the normal's, and only reflected light is compared:
+// a guide to which rule to render, not a substitute for rendering it.
+//   usage: lesion_rules [--runs DIR] [--preset blood_spot|dysplasia]
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "renderer/core/files/json_node.h"
+#include "renderer/render/integrator/render_tables.h"
+#include "renderer/render/integrator/spatial_vertex.h"
+#include "renderer/render/spatial/spatial_tables.h"
+#include "renderer/scene/scene.h"
+#include "renderer/spectral/spectra/units.h"
+
+using namespace ofl;
+
+namespace {
+
+// One preset's spatial tables, built from a flat scene of it (the profiles come from the cache).
+struct Preset {
+  Scene scene;
+  std::unique_ptr<RenderTables> tables;
+  const SpatialStack* stack = nullptr;
+};
+
+std::unique_ptr<Preset> load_preset(const std::string& name) {
+  const nlohmann::json j = {
+      {"format", "oralfluor-scene"}, {"version", 1}, {"integrator", {{"spp", 1}, {"max_depth", 2}}},
+      {"camera", {{"position", {0, 0, 0.3}}, {"look_at", {0, 0, 0}}, {"up", {0, 1, 0}}, {"fov_deg", 3}, {"resolution", {4, 4}}}},
+      {"materials", {{"t", {{"type", "layered_tissue"}, {"preset", name}, {"transport", "spatial"}}}}},
+      {"geometry", {{{"type", "quad"}, {"center", {0, 0, 0}}, {"u", {0.05, 0, 0}}, {"v", {0, 0.05, 0}}, {"material", "t"}}}},
+      {"lights", {{{"spd", 1.0}, {"radiant_intensity_W_sr", 1}, {"position", {0, 0, 0.1}}, {"axis", {0, 0, -1}}}}}};
+  auto p = std::make_unique<Preset>();
+  p->scene = load_scene(JsonFile::from(j, name + ".json"));
+  p->tables = std::make_unique<RenderTables>(p->scene, std::vector<double>{});
+  for (const auto& m : p->tables->materials)
+    if (m.stack.spatial) p->stack = m.stack.spatial.get();
+  return p;
+}
+
+// Fraction of the segment p -> q (mm, in the plane) inside the disc of radius a about the origin.
+double inside_fraction(double px, double py, double qx, double qy, double a) {
+  const double dx = qx - px, dy = qy - py, A = dx * dx + dy * dy, B = 2 * (px * dx + py * dy), C = px * px + py * py - a * a;
+  const double disc = B * B - 4 * A * C;
+  if (disc <= 0 || A <= 0) return C < 0 ? 1.0 : 0.0;
+  const double s = std::sqrt(disc);
+  const double t0 = std::max((-B - s) / (2 * A), 0.0), t1 = std::min((-B + s) / (2 * A), 1.0);
+  return t1 > t0 ? t1 - t0 : 0.0;
+}
+
+// The rules: the shipped one first (chord among the passages, chord_among_passages_mm), then the
+// chord's cap with other constants, the full chord (before 2026-11-28) and the ends' geometric mean.
+struct Rule {
+  const char* name;
+  double kappa;  // the chord counts r / (1 + r / (kappa L)); 0: the full chord; < 0: geometric mean
+};
+const Rule kRules[] = {{"shipped (2 L cap)", -2}, {"cap 0.5 L", 0.5}, {"cap 1 L", 1}, {"cap 4 L", 4},
+                       {"full chord", 0},         {"geometric mean of the ends", -1}};
+constexpr int kNumRules = sizeof(kRules) / sizeof(kRules[0]);
+
+// The rules' values for light entering at (xi, yi) and leaving at (d, 0), r apart, profiles p[0]
+// (healthy) and p[1] (disc) at r.
+void rule_values(double d, double xi, double yi, double r, double a, double L, const double* p, double* v) {
+  const int mi = xi * xi + yi * yi < a * a ? 1 : 0, mo = d < a ? 1 : 0;
+  const double f = inside_fraction(d, 0, xi, yi, a);
+  auto mix = [&](double c) {
+    const double share = (L * mi + L * mo + c * f) / (2 * L + c);
+    return std::pow(p[1], share) * std::pow(p[0], 1 - share);
+  };
+  for (int k = 0; k < kNumRules; ++k) {
+    const double kappa = kRules[k].kappa;
+    if (kappa == -2) v[k] = mix(chord_among_passages_mm(r, L));
+    else if (kappa == -1) v[k] = std::sqrt(p[mi] * p[mo]);
+    else if (kappa == 0) v[k] = mix(r);
+    else v[k] = mix(r / (1 + r / (kappa * L)));
+  }
+}
+
+// Each rule's integral over the ring [d0, d1) of exit points (area-weighted) and every entry point,
+// over the disc-free tissue's.
+void ring_integrals(const Preset& healthy, const Preset& disc, int wl, double a, double d0, double d1, double L,
+                    double* out) {
+  const SpatialStack* S[2] = {healthy.stack, disc.stack};
+  double rd[2];
+  size_t at[2];
+  for (int m = 0; m < 2; ++m) {
+    const auto co = S[m]->cosines(1.0);
+    at[m] = S[m]->el_at(co.c[0], wl);
+    rd[m] = S[m]->prof->rd[size_t(co.c[0]) * S[m]->n + wl];
+  }
+  for (int k = 0; k < kNumRules; ++k) out[k] = 0;
+  const RadialRings& g = S[0]->el_rings();
+  double wsum = 0;
+  for (int sd = 0; sd < 5; ++sd) {
+    const double d = d0 + (d1 - d0) * (sd + 0.5) / 5, wd = d + 1e-9;
+    wsum += wd;
+    for (int jr = 0; jr < g.rings; ++jr)
+      for (int sub = 0; sub < 4; ++sub) {
+        const double r0 = g.edge(jr), r1 = g.edge(jr + 1);
+        const double ra = r0 + (r1 - r0) * sub / 4, rb = r0 + (r1 - r0) * (sub + 1) / 4, r = 0.5 * (ra + rb);
+        const double area = kPi * (rb * rb - ra * ra);
+        const double p[2] = {S[0]->el_dens[at[0] + jr] * rd[0], S[1]->el_dens[at[1] + jr] * rd[1]};
+        constexpr int kAngles = 128;
+        for (int ia = 0; ia < kAngles; ++ia) {
+          const double phi = 2 * kPi * (ia + 0.5) / kAngles;
+          double v[kNumRules];
+          rule_values(d, d + r * std::cos(phi), r * std::sin(phi), r, a, L, p, v);
+          for (int k = 0; k < kNumRules; ++k) out[k] += wd * v[k] * area / kAngles;
+        }
+      }
+  }
+  for (int k = 0; k < kNumRules; ++k) out[k] /= wsum * rd[0];
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::string runs = "benchmarks/results.d/lesion_runs", preset = "blood_spot";
+  for (int i = 1; i + 1 < argc; i += 2) {
+    const std::string k = argv[i];
+    if (k == "--runs") runs = argv[i + 1];
+    else if (k == "--preset") preset = argv[i + 1];
+    else { std::fprintf(stderr, "lesion_rules: unknown option %s\n", k.c_str()); return 2; }
+  }
+  const auto healthy = load_preset("lateral_tongue"), disc = load_preset(preset);
+  if (!healthy->stack || !disc->stack) { std::fprintf(stderr, "lesion_rules: no spatial stack\n"); return 2; }
+  const double L = differing_depth_mm(healthy->scene.materials[0].stack, disc->scene.materials[0].stack);
+  const double band_nm[3] = {450, 560, 630};
+  int pass[kNumRules] = {}, total = 0;
+  std::printf("lesion_rules: %s in lateral_tongue, passage L = %.2f mm, runs in %s\n", preset.c_str(), L, runs.c_str());
+  for (const char* a_text : {"0.25", "0.5", "1", "2", "5"}) {
+    const std::string file = runs + "/spatial_lesion_" + preset + "_" + a_text + "mm.json";
+    std::ifstream in(file);
+    if (!in) { std::printf("  %s mm: no run (%s)\n", a_text, file.c_str()); continue; }
+    const nlohmann::json x = nlohmann::json::parse(in)["extra"];
+    const auto& edges = x["ring_edges_mm"];
+    const double a = std::stod(a_text);
+    int disc_pass[kNumRules] = {}, disc_total = 0;
+    for (int b = 0; b < 3; ++b) {
+      const int wl = disc->scene.grid().index_of(band_nm[b]);
+      for (size_t k = 0; k + 1 < edges.size(); ++k) {
+        double v[kNumRules];
+        ring_integrals(*healthy, *disc, wl, a, edges[k], edges[k + 1], L, v);
+        const double mc = x["forward_mc"]["contrast"][b][k], se = x["forward_mc"]["se"][b][k];
+        const double sp = x["spatial"]["contrast"][b][k], sse = x["spatial"]["se"][b][k];
+        const double tol = std::max(0.02 * std::abs(mc), 3 * std::sqrt(se * se + sse * sse));
+        for (int r = 0; r < kNumRules; ++r) disc_pass[r] += std::abs(sp + v[r] - v[0] - mc) <= tol;
+        ++disc_total;
+      }
+    }
+    std::printf("  %s mm:", a_text);
+    for (int r = 0; r < kNumRules; ++r) { std::printf(" %d", disc_pass[r]); pass[r] += disc_pass[r]; }
+    std::printf(" of %d\n", disc_total);
+    total += disc_total;
+  }
+  for (int r = 0; r < kNumRules; ++r) std::printf("%-28s %d of %d rings\n", kRules[r].name, pass[r], total);
+  return 0;
+}
