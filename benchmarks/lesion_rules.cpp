@@ -14,6 +14,7 @@
 #include <cstdio>
 #include <fstream>
 #include <memory>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -128,7 +129,7 @@ void ring_integrals(const Preset& healthy, const Preset& disc, int wl, double a,
 
 }  // namespace
 
-int main(int argc, char** argv) {
+int run(int argc, char** argv) {
   std::string runs = "benchmarks/results.d/lesion_runs", preset = "blood_spot";
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string k = argv[i];
@@ -146,7 +147,12 @@ int main(int argc, char** argv) {
     const std::string file = runs + "/spatial_lesion_" + preset + "_" + a_text + "mm.json";
     std::ifstream in(file);
     if (!in) { std::printf("  %s mm: no run (%s)\n", a_text, file.c_str()); continue; }
-    const nlohmann::json x = nlohmann::json::parse(in)["extra"];
+    nlohmann::json x;
+    try {
+      x = nlohmann::json::parse(in).at("extra");
+    } catch (const std::exception& e) {
+      throw std::runtime_error(file + ": " + e.what());
+    }
     const auto& edges = x["ring_edges_mm"];
     const double a = std::stod(a_text);
     int disc_pass[kNumRules] = {}, disc_total = 0;
@@ -169,4 +175,13 @@ int main(int argc, char** argv) {
   }
   for (int r = 0; r < kNumRules; ++r) std::printf("%-28s %d of %d rings\n", kRules[r].name, pass[r], total);
   return 0;
+}
+
+int main(int argc, char** argv) {
+  try {
+    return run(argc, argv);
+  } catch (const std::exception& e) {  // a run's JSON that does not parse or lacks a field
+    std::fprintf(stderr, "lesion_rules: %s\n", e.what());
+    return 2;
+  }
 }
