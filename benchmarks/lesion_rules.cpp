@@ -26,6 +26,7 @@
 #include "renderer/render/spatial/spatial_tables.h"
 #include "renderer/scene/scene.h"
 #include "renderer/spectral/spectra/units.h"
+#include "renderer/validation/harness/bench_check.h"
 
 using namespace ofl;
 
@@ -78,8 +79,8 @@ constexpr int kNumRules = sizeof(kRules) / sizeof(kRules[0]);
 void rule_values(double d, double xi, double yi, double r, double a, double L, const double* p, double* v) {
   const int mi = xi * xi + yi * yi < a * a ? 1 : 0, mo = d < a ? 1 : 0;
   const double f = inside_fraction(d, 0, xi, yi, a);
-  auto mix = [&](double c) {
-    const double share = (L * mi + L * mo + c * f) / (2 * L + c);
+  auto mix = [&](double along) {  // the disc's share by the renderer's own arithmetic
+    const double share = passage_share(f, mi + mo, 2, L, along);
     return std::pow(p[1], share) * std::pow(p[0], 1 - share);
   };
   for (int k = 0; k < kNumRules; ++k) {
@@ -163,7 +164,7 @@ int run(int argc, char** argv) {
         ring_integrals(*healthy, *disc, wl, a, edges[k], edges[k + 1], L, v);
         const double mc = x["forward_mc"]["contrast"][b][k], se = x["forward_mc"]["se"][b][k];
         const double sp = x["spatial"]["contrast"][b][k], sse = x["spatial"]["se"][b][k];
-        const double tol = std::max(0.02 * std::abs(mc), 3 * std::sqrt(se * se + sse * sse));
+        const double tol = mc_tolerance(0.02, mc, std::sqrt(se * se + sse * sse));
         for (int r = 0; r < kNumRules; ++r) disc_pass[r] += std::abs(sp + v[r] - v[0] - mc) <= tol;
         ++disc_total;
       }

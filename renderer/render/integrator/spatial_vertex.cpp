@@ -456,25 +456,25 @@ double SpatialTransport::passage_among(const Chord& chord, int end, int other) c
 }
 
 // The chord's shares with each end's material counting a passage of `passage` mm and the chord
-// `along` mm: share_m = (passage * [ends of material m] + along * chord share_m) / (passage * ends + along).
+// `along` mm (passage_share), renormalised over the materials that carry the spatial transport.
 SpatialTransport::Chord SpatialTransport::with_passages(const Chord& chord, const int* ends, int n_ends, double passage,
                                                         double along) const {
-  const double total = n_ends * passage + along;
-  if (!(total > 0)) return chord;
+  if (!(n_ends * passage + along > 0)) return chord;
   Chord c = chord;
-  auto slot = [&](int m) {
-    for (int j = 0; j < c.n; ++j)
-      if (c.material[j] == m) return j;
-    if (c.n == Chord::kMax) return -1;
-    c.material[c.n] = m;
-    c.share[c.n] = 0.0;
-    return c.n++;
-  };
-  for (int j = 0; j < c.n; ++j) c.share[j] *= along / total;
-  for (int i = 0; i < n_ends; ++i)
-    if (int j = spatial_material(ends[i]) ? slot(ends[i]) : -1; j >= 0) c.share[j] += passage / total;
+  int in_m[Chord::kMax] = {};
+  for (int i = 0; i < n_ends; ++i) {
+    if (!spatial_material(ends[i])) continue;
+    int j = 0;
+    while (j < c.n && c.material[j] != ends[i]) ++j;
+    if (j == c.n) {
+      if (c.n == Chord::kMax) continue;
+      c.material[c.n] = ends[i];
+      c.share[c.n++] = 0.0;
+    }
+    ++in_m[j];
+  }
   double sum = 0;
-  for (int j = 0; j < c.n; ++j) sum += c.share[j];
+  for (int j = 0; j < c.n; ++j) sum += c.share[j] = passage_share(c.share[j], in_m[j], n_ends, passage, along);
   for (int j = 0; j < c.n; ++j) c.share[j] /= sum;
   return c;
 }

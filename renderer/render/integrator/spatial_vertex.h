@@ -58,6 +58,14 @@ double differing_depth_mm(const LayerStack& a, const LayerStack& b);
 // long path runs about r / 2 deep, below those layers, so at most 2 L (docs/layered-tissue.md,
 // "Regions and lateral transport"). 0 when L is 0.
 inline double chord_among_passages_mm(double r, double L) { return L > 0 ? r / (1.0 + r / (2.0 * L)) : 0.0; }
+// A material's share of a path across regions (docs/layered-tissue.md, "Regions and lateral
+// transport"): `ends_in_m` of its `n_ends` vertical passages of `passage` mm lie in the material, and
+// of the chord between them `along` mm run among the layers that differ, `chord_share` of it in the
+// material. The chord's own share where there is nothing to count.
+inline double passage_share(double chord_share, int ends_in_m, int n_ends, double passage, double along) {
+  const double total = n_ends * passage + along;
+  return total > 0 ? (ends_in_m * passage + along * chord_share) / total : chord_share;
+}
 
 class SpatialTransport {
  public:
