@@ -9,7 +9,8 @@
 // case counts (within 2 % or 3 combined standard errors). One wavelength stands for each band (450,
 // 560, 630 nm), the light's direction is taken as the normal's, and only reflected light is compared:
 // a guide to which rule to render, not a substitute for rendering it.
-//   usage: lesion_rules [--runs DIR] [--preset blood_spot|dysplasia]
+//   usage: lesion_rules [--runs DIR] [--preset blood_spot|dysplasia] [--rings]
+//   (--rings: every ring's Monte Carlo value, tolerance, rendered value and each other rule's prediction)
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -64,31 +65,88 @@ double inside_fraction(double px, double py, double qx, double qy, double a) {
   return t1 > t0 ? t1 - t0 : 0.0;
 }
 
-// The rules: the shipped one first (chord among the passages, chord_among_passages_mm), then the
-// chord's cap with other constants, the full chord (before 2026-11-28) and the ends' geometric mean.
+// The rules: the shipped one first (passages of L, the chord among them, chord_among_passages_mm),
+// then the chord's cap with other constants, the full chord (before 2026-11-28), the ends' geometric
+// mean, the log ratio's end and chord parts, and longer passages (diffuse light crosses a layer of
+// thickness L along 2 L on average).
+enum class Kind { kShipped, kCap, kFullChord, kGeometricMean, kEndChordSplit, kPassage };
 struct Rule {
   const char* name;
-  double kappa;  // the chord counts r / (1 + r / (kappa L)); 0: the full chord; < 0: geometric mean
+  Kind kind;
+  double x;  // kCap: the chord counts r / (1 + r / (x L)); kPassage: each passage is x L long (cap 2 L)
 };
-const Rule kRules[] = {{"shipped (2 L cap)", -2}, {"cap 0.5 L", 0.5}, {"cap 1 L", 1}, {"cap 4 L", 4},
-                       {"full chord", 0},         {"geometric mean of the ends", -1}};
+const Rule kRules[] = {{"shipped (2 L cap)", Kind::kShipped, 0},       {"cap 0.5 L", Kind::kCap, 0.5},
+                       {"cap 1 L", Kind::kCap, 1},                 {"cap 4 L", Kind::kCap, 4},
+                       {"full chord", Kind::kFullChord, 0},        {"geometric mean of the ends", Kind::kGeometricMean, 0},
+                       {"end and chord parts", Kind::kEndChordSplit, 0}, {"passages of 1.5 L", Kind::kPassage, 1.5},
+                       {"passages of 2 L", Kind::kPassage, 2}};
 constexpr int kNumRules = sizeof(kRules) / sizeof(kRules[0]);
+
+// A rule tried and not kept (docs/layered-tissue.md, "Regions and lateral transport"): the log ratio
+// of two materials' exit densities, y(r) = ln(P_b / P_a)(r), split by least squares over the rings
+// (weights: the two profiles' mean mass) into a part per end in b and a part per mm of chord among
+// the layers that differ, y = 2 e + g c(r) + rest; a path then takes the end part per end it has in
+// b, the chord part for the chord it runs in b, and the rest by b's share (the shipped rule's).
+struct EndChordSplit {
+  double e = 0, g = 0;
+};
+EndChordSplit split_log_ratio(const float* dens_a, const float* dens_b, const RadialRings& rings, double L) {
+  double s00 = 0, s01 = 0, s11 = 0, t0 = 0, t1 = 0;
+  for (int j = 0; j < rings.rings; ++j) {
+    if (!(dens_a[j] > 0 && dens_b[j] > 0)) continue;
+    const double r = 0.5 * (rings.edge(j) + rings.edge(j + 1));
+    const double w = 0.5 * (double(dens_a[j]) + dens_b[j]) * rings.area(j);
+    const double x = chord_among_passages_mm(r, L), y = std::log(double(dens_b[j]) / dens_a[j]);
+    s00 += 4 * w;
+    s01 += 2 * w * x;
+    s11 += w * x * x;
+    t0 += 2 * w * y;
+    t1 += w * x * y;
+  }
+  EndChordSplit sp;
+  const double det = s00 * s11 - s01 * s01;
+  if (!(std::abs(det) > 1e-12 * s00 * s11)) return sp;
+  sp.e = (t0 * s11 - t1 * s01) / det;
+  sp.g = (s00 * t1 - s01 * t0) / det;
+  return sp;
+}
+// What material b adds to the log of the BSSRDF of the exit point's material a (y: their log ratio at
+// the path's length, share: b's share by passage_share, ends_in_b: 0 or 1, chord_frac: the chord's
+// fraction in b, along: the chord's length among the layers that differ).
+double crossed_log_term(double y, double share, int ends_in_b, double chord_frac, const EndChordSplit& s, double along) {
+  return share * y + s.e * (ends_in_b - 2.0 * share) + s.g * along * (chord_frac - share);
+}
 
 // The rules' values for light entering at (xi, yi) and leaving at (d, 0), r apart, profiles p[0]
 // (healthy) and p[1] (disc) at r.
-void rule_values(double d, double xi, double yi, double r, double a, double L, const double* p, double* v) {
+// sp[m]: the split of ln(p[1 - m] / p[m]) (split_log_ratio, the ends' parts with half the log ratio of
+// the diffuse reflectances, as the renderer's elastic_values counts the tables').
+void rule_values(double d, double xi, double yi, double r, double a, double L, const double* p, const EndChordSplit* sp,
+                 double* v) {
   const int mi = xi * xi + yi * yi < a * a ? 1 : 0, mo = d < a ? 1 : 0;
   const double f = inside_fraction(d, 0, xi, yi, a);
-  auto mix = [&](double along) {  // the disc's share by the renderer's own arithmetic
-    const double share = passage_share(f, mi + mo, 2, L, along);
+  auto mix = [&](double along, double passage) {  // the disc's share by the renderer's own arithmetic
+    const double share = passage_share(f, mi + mo, 2, passage, along);
     return std::pow(p[1], share) * std::pow(p[0], 1 - share);
   };
+  const double cap = chord_among_passages_mm(r, L);
   for (int k = 0; k < kNumRules; ++k) {
-    const double kappa = kRules[k].kappa;
-    if (kappa == -2) v[k] = mix(chord_among_passages_mm(r, L));
-    else if (kappa == -1) v[k] = std::sqrt(p[mi] * p[mo]);
-    else if (kappa == 0) v[k] = mix(r);
-    else v[k] = mix(r / (1 + r / (kappa * L)));
+    const Rule& rule = kRules[k];
+    switch (rule.kind) {
+      case Kind::kShipped: v[k] = mix(cap, L); break;  // chord_among_passages_mm, the renderer's
+      case Kind::kCap: v[k] = mix(r / (1 + r / (rule.x * L)), L); break;
+      case Kind::kFullChord: v[k] = mix(r, L); break;
+      case Kind::kGeometricMean: v[k] = std::sqrt(p[mi] * p[mo]); break;
+      case Kind::kPassage: v[k] = mix(cap, rule.x * L); break;
+      case Kind::kEndChordSplit: {
+        if (!(p[0] > 0 && p[1] > 0)) { v[k] = mix(cap, L); break; }
+        const int other = 1 - mo;  // relative to the exit point's material
+        const double share = passage_share(other ? f : 1 - f, mi == other ? 1 : 0, 2, L, cap);
+        v[k] = p[mo] * std::exp(crossed_log_term(std::log(p[other] / p[mo]), share, mi == other ? 1 : 0, other ? f : 1 - f,
+                                                 sp[mo], cap));
+        break;
+      }
+    }
   }
 }
 
@@ -106,6 +164,10 @@ void ring_integrals(const Preset& healthy, const Preset& disc, int wl, double a,
   }
   for (int k = 0; k < kNumRules; ++k) out[k] = 0;
   const RadialRings& g = S[0]->el_rings();
+  EndChordSplit sp[2] = {split_log_ratio(&S[0]->el_dens[at[0]], &S[1]->el_dens[at[1]], g, L),
+                         split_log_ratio(&S[1]->el_dens[at[1]], &S[0]->el_dens[at[0]], g, L)};
+  sp[0].e += 0.5 * std::log(rd[1] / rd[0]);
+  sp[1].e += 0.5 * std::log(rd[0] / rd[1]);
   double wsum = 0;
   for (int sd = 0; sd < 5; ++sd) {
     const double d = d0 + (d1 - d0) * (sd + 0.5) / 5, wd = d + 1e-9;
@@ -120,7 +182,7 @@ void ring_integrals(const Preset& healthy, const Preset& disc, int wl, double a,
         for (int ia = 0; ia < kAngles; ++ia) {
           const double phi = 2 * kPi * (ia + 0.5) / kAngles;
           double v[kNumRules];
-          rule_values(d, d + r * std::cos(phi), r * std::sin(phi), r, a, L, p, v);
+          rule_values(d, d + r * std::cos(phi), r * std::sin(phi), r, a, L, p, sp, v);
           for (int k = 0; k < kNumRules; ++k) out[k] += wd * v[k] * area / kAngles;
         }
       }
@@ -132,8 +194,11 @@ void ring_integrals(const Preset& healthy, const Preset& disc, int wl, double a,
 
 int run(int argc, char** argv) {
   std::string runs = "benchmarks/results.d/lesion_runs", preset = "blood_spot";
-  for (int i = 1; i + 1 < argc; i += 2) {
+  bool rings = false;
+  for (int i = 1; i < argc; i += 2) {
     const std::string k = argv[i];
+    if (k == "--rings") { rings = true; --i; continue; }
+    if (i + 1 >= argc) { std::fprintf(stderr, "lesion_rules: %s needs a value\n", k.c_str()); return 2; }
     if (k == "--runs") runs = argv[i + 1];
     else if (k == "--preset") preset = argv[i + 1];
     else { std::fprintf(stderr, "lesion_rules: unknown option %s\n", k.c_str()); return 2; }
@@ -166,6 +231,13 @@ int run(int argc, char** argv) {
         const double sp = x["spatial"]["contrast"][b][k], sse = x["spatial"]["se"][b][k];
         const double tol = mc_tolerance(0.02, mc, std::sqrt(se * se + sse * sse));
         for (int r = 0; r < kNumRules; ++r) disc_pass[r] += std::abs(sp + v[r] - v[0] - mc) <= tol;
+        if (rings)
+          {
+          std::printf("    %.0f nm, %.2f-%.2f mm: Monte Carlo %.3f (tolerance %.3f), rendered %.3f; rules:", band_nm[b],
+                      double(edges[k]), double(edges[k + 1]), mc, tol, sp);
+          for (int r = 1; r < kNumRules; ++r) std::printf(" %.3f", sp + v[r] - v[0]);
+          std::printf("\n");
+        }
         ++disc_total;
       }
     }
