@@ -85,10 +85,11 @@ PathTracer::PathTracer(const Scene& scene, const EmbreeScene& embree, const Rend
     : scene_(scene),
       embree_(embree),
       t_(tables),
-      // 64 guide entries per wavelength bin (about 6 000 ints for 360-830 nm at 5 nm): the guide then
-      // names the bin itself for almost every u, so the eight draws of a camera sample rarely step
-      // and rarely mispredict (the same bins as with 4 per bin, so the same images).
-      wavelengths_(tables.wavelength_pdf, 64),
+      // 16 guide cells per wavelength bin (about 1 500 ints for 360-830 nm at 5 nm, small enough to
+      // stay in the first-level cache): all but about one cell in 16 name their bin outright, so the
+      // eight draws of a camera sample rarely walk the CDF (the same bins as any guide, so the same
+      // images).
+      wavelengths_(tables.wavelength_pdf, 16),
       light_choice_(scene.lights, tables.light_select,
                     scene.integrator.light_selection == IntegratorSpec::LightSelection::kPower),
       spatial_(scene, embree, tables) {
