@@ -105,13 +105,13 @@ TEST(Sampling, DiscreteDistribution) {
 
 // The guide table changes how the bin is found, not which: the same bin as the binary search for
 // random u, for u at and next to every CDF entry (where rounding could send the guide astray), with
-// zero-weight bins, one bin, and guides of 1, 4 and 64 (the renderer's) entries per bin.
+// zero-weight bins, one bin, and guides of 1, 4, 16 (the renderer's) and 64 entries per bin.
 TEST(Sampling, GuidedSamplerGivesTheBinarySearchBin) {
   const std::vector<std::vector<double>> cases = {
       {0.5, 0, 3, 1, 0.25, 2, 0, 7}, {1}, {0, 0, 1, 0}, {1e-9, 1, 1e-9, 0, 0, 5, 1e-12}};
   Rng rng(4, 8);
   for (const auto& w : cases)
-    for (int per_bin : {1, 4, 64}) {
+    for (int per_bin : {1, 4, 16, 64}) {
       DiscreteDistribution d(w);
       GuidedSampler g(d, per_bin);
       std::vector<double> us = {0.0, 0.5, 1.0 - 1e-16};

@@ -38,7 +38,10 @@ static size_t knot_above(const LedProfile& p, double c) {
 
 double LedProfile::eval(double c) const {
   if (c <= 0) return 0.0;
-  if (table_cos.empty()) return std::pow(c, cos_power);
+  if (table_cos.empty()) {  // cos^m; the isotropic and the Lambertian emitter without pow (the same values)
+    if (cos_power == 0) return 1.0;
+    return cos_power == 1 ? c : std::pow(c, cos_power);
+  }
   if (c <= table_cos.front()) return table_value.front();
   if (c >= table_cos.back()) return table_value.back();
   size_t i = knot_above(*this, c);

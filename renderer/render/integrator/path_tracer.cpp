@@ -85,10 +85,11 @@ PathTracer::PathTracer(const Scene& scene, const EmbreeScene& embree, const Rend
     : scene_(scene),
       embree_(embree),
       t_(tables),
-      // 64 guide entries per wavelength bin (about 6 000 ints for 360-830 nm at 5 nm): the guide then
-      // names the bin itself for almost every u, so the eight draws of a camera sample rarely step
-      // and rarely mispredict (the same bins as with 4 per bin, so the same images).
-      wavelengths_(tables.wavelength_pdf, 64),
+      // 16 guide cells per wavelength bin (about 1 500 ints for 360-830 nm at 5 nm, small enough to
+      // stay in the first-level cache): all but about one cell in 16 name their bin outright, so the
+      // eight draws of a camera sample rarely walk the CDF (the same bins as any guide, so the same
+      // images).
+      wavelengths_(tables.wavelength_pdf, 16),
       light_choice_(scene.lights, tables.light_select,
                     scene.integrator.light_selection == IntegratorSpec::LightSelection::kPower),
       spatial_(scene, embree, tables) {
@@ -234,6 +235,8 @@ PathTracer::Continuation PathTracer::surface_vertex(const SurfacePoint& sp, cons
   if (wi.z <= 0) return c;
   glm::dvec3 wi_w = frame.to_world(wi);
   if (glm::dot(wi_w, sp.ng) <= 0) return c;
+  // A continuation ray that can hit nothing ends the path here: its lanes' events would not matter.
+  if (embree_.leaves_scene(EmbreeScene::offset(sp, wi_w), wi_w)) return c;
   double pdf = dir_pdf(wi);
   if (!(pdf > 0)) return c;
   double fs = mt.coated ? coat.eval(wo, wi) : 0.0;
@@ -394,10 +397,12 @@ double PathTracer::sample_pixel(int x, int y, Rng& rng, double* bands, RayCounts
     prev_pdf = c.pdf;
     prev = c.moved ? c.from : sp;
     prev_by_power = c.light_by_power;
+    const glm::dvec3 next_o = EmbreeScene::offset(prev, c.wi_world);
+    if (embree_.leaves_scene(next_o, c.wi_world)) break;  // it could hit nothing (no light from outside)
     const bool more = roulette(p, depth, rng);
     counts.mark(Stage::kShading);
     if (!more) break;
-    ray = {EmbreeScene::offset(prev, c.wi_world), c.wi_world};
+    ray = {next_o, c.wi_world};
     counts.extension++;
   }
   counts.mark(Stage::kSurface);  // a path that ends at a hit ends after its hit point and material

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -61,6 +62,24 @@ EmbreeScene::EmbreeScene(const Scene& sc) : src_(sc) {
     if (!sc.lights[i].is_point())
       add_disk(sc.lights[i].position, sc.lights[i].axis, sc.lights[i].radius_m, {GeomInfo::Kind::kLed, static_cast<int>(i), -1});
   rtcCommitScene(scene_);
+  set_bounds();
+}
+
+// Embree's box of the committed scene (empty: lower above upper, so every ray leaves it), widened
+// by a few float steps of its largest coordinate so that a ray leaves_scene rejects could not have
+// been reported as a hit by Embree's float arithmetic either.
+void EmbreeScene::set_bounds() {
+  RTCBounds b;
+  rtcGetSceneBounds(scene_, &b);
+  const float lo[3] = {b.lower_x, b.lower_y, b.lower_z}, hi[3] = {b.upper_x, b.upper_y, b.upper_z};
+  float size = 0;
+  for (int i = 0; i < 3; ++i)
+    if (lo[i] <= hi[i]) size = std::max({size, std::fabs(lo[i]), std::fabs(hi[i])});
+  const float margin = 4 * std::numeric_limits<float>::epsilon() * size;
+  for (int i = 0; i < 3; ++i) {
+    lo_[i] = lo[i] - margin;
+    hi_[i] = hi[i] + margin;
+  }
 }
 
 EmbreeScene::~EmbreeScene() {
@@ -69,6 +88,7 @@ EmbreeScene::~EmbreeScene() {
 }
 
 RayHit EmbreeScene::intersect(const glm::dvec3& o, const glm::dvec3& d, float tmax) const {
+  if (leaves_scene(o, d)) return {};
   RTCIntersectContext ctx;
   rtcInitIntersectContext(&ctx);
   RTCRayHit rh;
@@ -96,6 +116,7 @@ RayHit EmbreeScene::intersect(const glm::dvec3& o, const glm::dvec3& d, float tm
 }
 
 bool EmbreeScene::occluded(const glm::dvec3& o, const glm::dvec3& d, float tmax) const {
+  if (leaves_scene(o, d)) return false;
   RTCIntersectContext ctx;
   rtcInitIntersectContext(&ctx);
   RTCRay r;

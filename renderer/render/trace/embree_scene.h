@@ -66,11 +66,25 @@ class EmbreeScene {
   // A point offset off the surface toward `dir`, to start a ray without hitting the surface again.
   static glm::dvec3 offset(const SurfacePoint& s, const glm::dvec3& dir);
 
+  // The ray from o along d, as Embree receives it (in float), starts outside the bounding box of
+  // everything in the scene (LED disks included) on some axis and does not move toward it there:
+  // it can hit nothing. intersect and occluded answer such rays without Embree; the path tracer
+  // ends a path whose continuation ray is one before doing that vertex's remaining work.
+  bool leaves_scene(const glm::dvec3& o, const glm::dvec3& d) const {
+    const float of[3] = {float(o.x), float(o.y), float(o.z)}, df[3] = {float(d.x), float(d.y), float(d.z)};
+    for (int i = 0; i < 3; ++i)
+      if ((of[i] > hi_[i] && df[i] >= 0) || (of[i] < lo_[i] && df[i] <= 0)) return true;
+    return false;
+  }
+
  private:
   const Scene& src_;
   RTCDevice device_ = nullptr;
   RTCScene scene_ = nullptr;
   std::vector<GeomInfo> info_;
+  void set_bounds();
+  // The scene's bounding box, widened by a margin above float rounding (leaves_scene).
+  float lo_[3] = {0, 0, 0}, hi_[3] = {0, 0, 0};
 };
 
 }  // namespace ofl

@@ -42,7 +42,18 @@ DiscreteDistribution::DiscreteDistribution(const std::vector<double>& w) {
 GuidedSampler::GuidedSampler(const DiscreteDistribution& d, int per_bin) : cdf(d.cdf) {
   if (cdf.empty()) cdf = {1.0};  // an empty distribution: bin 0, as DiscreteDistribution gives
   const size_t n = size_t(std::max(1, per_bin)) * cdf.size();
-  for (size_t j = 0; j < n; ++j) guide.push_back(d.empty() ? 0 : d.sample(double(j) / double(n)));
+  // A u that lands in cell j lies within a rounding step of [j, j + 1) / n; the margin is far wider.
+  constexpr double kMargin = 1e-12;
+  for (size_t j = 0; j < n; ++j) {
+    if (d.empty()) {
+      guide.push_back(0);
+      continue;
+    }
+    const int start = d.sample(double(j) / double(n));
+    const int lo = d.sample(std::max(0.0, double(j) / double(n) - kMargin));
+    const int hi = d.sample(double(j + 1) / double(n) + kMargin);
+    guide.push_back(lo == hi ? lo : -1 - start);
+  }
 }
 
 Frame::Frame(const glm::dvec3& n) : z(n) {

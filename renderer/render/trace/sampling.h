@@ -36,16 +36,21 @@ struct DiscreteDistribution {
 };
 
 // DiscreteDistribution::sample without the binary search (for the camera wavelengths, drawn
-// kLanes times per camera sample): guide[j] is the bin for u = j / guide.size(), and sample(u)
-// walks from there to the first CDF entry above u, a step or two with several guide entries per
-// bin. Gives exactly the bin DiscreteDistribution::sample(u) gives.
+// kLanes times per camera sample). The unit interval is cut into guide.size() cells; guide[j] is
+// the bin itself (>= 0) where every u that can land in cell j, rounding of u * guide.size()
+// included, falls in one bin, and otherwise -1 - the bin of the cell's start, from which sample(u)
+// walks to the first CDF entry above u. With several cells per bin almost every u is answered by
+// one table read. Gives exactly the bin DiscreteDistribution::sample(u) gives.
 struct GuidedSampler {
   std::vector<double> cdf;
   std::vector<int> guide;
   explicit GuidedSampler(const DiscreteDistribution& d = DiscreteDistribution(), int per_bin = 4);
   int sample(double u) const {
+    const int n = int(guide.size());
+    const int g = guide[std::min(n - 1, int(std::max(0.0, u) * double(n)))];
+    if (g >= 0) return g;
     const int last = int(cdf.size()) - 1;
-    int i = guide[std::min(guide.size() - 1, size_t(std::max(0.0, u) * double(guide.size())))];
+    int i = -1 - g;
     while (i < last && cdf[i] <= u) ++i;  // the first bin whose CDF exceeds u...
     while (i > 0 && cdf[i - 1] > u) --i;  // ...whatever rounding did to the guide's index
     return i;
