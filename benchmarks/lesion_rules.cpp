@@ -67,9 +67,11 @@ double inside_fraction(double px, double py, double qx, double qy, double a) {
 
 // The rules: the shipped one first (passages of L, the chord among them, chord_among_passages_mm),
 // then the chord's cap with other constants, the full chord (before 2026-11-28), the ends' geometric
-// mean, the log ratio's end and chord parts, and longer passages (diffuse light crosses a layer of
-// thickness L along 2 L on average).
-enum class Kind { kShipped, kCap, kFullChord, kGeometricMean, kEndChordSplit, kPassage };
+// mean, the log ratio's end and chord parts, longer passages (diffuse light crosses a layer of
+// thickness L along 2 L on average), and soft memberships: the ends and the chord's points count as
+// the disc by an erfc of their distance to its edge, the darker material grown by sigma (x > 0 in mm,
+// x < 0 in units of L) or both blurred.
+enum class Kind { kShipped, kCap, kFullChord, kGeometricMean, kEndChordSplit, kPassage, kSoftDarker, kSoftBoth };
 struct Rule {
   const char* name;
   Kind kind;
@@ -79,7 +81,10 @@ const Rule kRules[] = {{"shipped (2 L cap)", Kind::kShipped, 0},       {"cap 0.5
                        {"cap 1 L", Kind::kCap, 1},                 {"cap 4 L", Kind::kCap, 4},
                        {"full chord", Kind::kFullChord, 0},        {"geometric mean of the ends", Kind::kGeometricMean, 0},
                        {"end and chord parts", Kind::kEndChordSplit, 0}, {"passages of 1.5 L", Kind::kPassage, 1.5},
-                       {"passages of 2 L", Kind::kPassage, 2}};
+                       {"passages of 2 L", Kind::kPassage, 2},
+                       {"darker grown 0.05 mm", Kind::kSoftDarker, 0.05}, {"darker grown 0.1 mm", Kind::kSoftDarker, 0.1},
+                       {"darker grown 0.15 mm", Kind::kSoftDarker, 0.15}, {"darker grown 0.5 L", Kind::kSoftDarker, -0.5},
+                       {"both blurred 0.05 mm", Kind::kSoftBoth, 0.05}, {"both blurred 0.1 mm", Kind::kSoftBoth, 0.1}};
 constexpr int kNumRules = sizeof(kRules) / sizeof(kRules[0]);
 
 // A rule tried and not kept (docs/layered-tissue.md, "Regions and lateral transport"): the log ratio
@@ -117,12 +122,30 @@ double crossed_log_term(double y, double share, int ends_in_b, double chord_frac
   return share * y + s.e * (ends_in_b - 2.0 * share) + s.g * along * (chord_frac - share);
 }
 
+// The disc's soft membership of a point rho from the disc's centre (sigma: the margin; grow: the disc
+// grows outward (1), shrinks inward (-1) or is blurred both ways (0)), and its mean along a segment.
+double soft_member(double rho, double a, double sigma, int grow) {
+  const double d = rho - a, k = 1 / (std::sqrt(2.0) * sigma);
+  if (grow > 0) return d <= 0 ? 1.0 : 0.5 * std::erfc(d * k);
+  if (grow < 0) return d >= 0 ? 0.0 : 1 - 0.5 * std::erfc(-d * k);
+  return 0.5 * std::erfc(d * k);
+}
+double soft_fraction(double px, double py, double qx, double qy, double a, double sigma, int grow) {
+  constexpr int kSteps = 16;
+  double s = 0;
+  for (int i = 0; i < kSteps; ++i) {
+    const double t = (i + 0.5) / kSteps, x = px + t * (qx - px), y = py + t * (qy - py);
+    s += soft_member(std::sqrt(x * x + y * y), a, sigma, grow);
+  }
+  return s / kSteps;
+}
+
 // The rules' values for light entering at (xi, yi) and leaving at (d, 0), r apart, profiles p[0]
 // (healthy) and p[1] (disc) at r.
 // sp[m]: the split of ln(p[1 - m] / p[m]) (split_log_ratio, the ends' parts with half the log ratio of
 // the diffuse reflectances, as the renderer's elastic_values counts the tables').
 void rule_values(double d, double xi, double yi, double r, double a, double L, const double* p, const EndChordSplit* sp,
-                 double* v) {
+                 bool disc_darker, double* v) {
   const int mi = xi * xi + yi * yi < a * a ? 1 : 0, mo = d < a ? 1 : 0;
   const double f = inside_fraction(d, 0, xi, yi, a);
   auto mix = [&](double along, double passage) {  // the disc's share by the renderer's own arithmetic
@@ -138,6 +161,16 @@ void rule_values(double d, double xi, double yi, double r, double a, double L, c
       case Kind::kFullChord: v[k] = mix(r, L); break;
       case Kind::kGeometricMean: v[k] = std::sqrt(p[mi] * p[mo]); break;
       case Kind::kPassage: v[k] = mix(cap, rule.x * L); break;
+      case Kind::kSoftDarker:
+      case Kind::kSoftBoth: {
+        const double sigma = rule.x > 0 ? rule.x : -rule.x * L;
+        const int grow = rule.kind == Kind::kSoftBoth ? 0 : (disc_darker ? 1 : -1);
+        const double ends = soft_member(std::hypot(xi, yi), a, sigma, grow) + soft_member(d, a, sigma, grow);
+        const double fs = soft_fraction(d, 0, xi, yi, a, sigma, grow);
+        const double share = (ends * L + cap * fs) / (2 * L + cap);
+        v[k] = std::pow(p[1], share) * std::pow(p[0], 1 - share);
+        break;
+      }
       case Kind::kEndChordSplit: {
         if (!(p[0] > 0 && p[1] > 0)) { v[k] = mix(cap, L); break; }
         const int other = 1 - mo;  // relative to the exit point's material
@@ -182,7 +215,7 @@ void ring_integrals(const Preset& healthy, const Preset& disc, int wl, double a,
         for (int ia = 0; ia < kAngles; ++ia) {
           const double phi = 2 * kPi * (ia + 0.5) / kAngles;
           double v[kNumRules];
-          rule_values(d, d + r * std::cos(phi), r * std::sin(phi), r, a, L, p, sp, v);
+          rule_values(d, d + r * std::cos(phi), r * std::sin(phi), r, a, L, p, sp, rd[1] < rd[0], v);
           for (int k = 0; k < kNumRules; ++k) out[k] += wd * v[k] * area / kAngles;
         }
       }
