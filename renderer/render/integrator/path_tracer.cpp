@@ -225,6 +225,7 @@ PathTracer::Continuation PathTracer::surface_vertex(const SurfacePoint& sp, cons
 
   // Continue the path: one direction for all lanes, then each lane picks its event.
   Continuation c;
+  if (embree_.outward_face(sp)) return c;  // whatever direction it samples leaves the scene
   glm::dvec3 wi;
   if (mt.coated && rng.next_double() < p_spec) {
     wi = coat.sample(wo, rng.next_double(), rng.next_double());
