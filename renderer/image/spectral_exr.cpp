@@ -74,8 +74,12 @@ class MemoryOStream : public Imf::OStream {
  public:
   MemoryOStream() : Imf::OStream("memory") {}
   void write(const char c[], int n) override {
-    if (pos_ + size_t(n) > bytes.size()) bytes.resize(pos_ + size_t(n));
-    std::memcpy(bytes.data() + pos_, c, size_t(n));
+    if (pos_ == bytes.size()) {
+      bytes.append(c, size_t(n));  // the usual case: no zero fill before the copy
+    } else {
+      if (pos_ + size_t(n) > bytes.size()) bytes.resize(pos_ + size_t(n));
+      std::memcpy(bytes.data() + pos_, c, size_t(n));
+    }
     pos_ += size_t(n);
   }
   uint64_t tellp() override { return pos_; }
@@ -125,6 +129,11 @@ std::string encode_spectral_exr(const SpectralImage& img, const std::string& fil
     if (plane.size() == size_t(img.width) * img.height)
       fb.insert(name, Imf::Slice(Imf::FLOAT, (char*)plane.data(), sizeof(float), sizeof(float) * img.width));
   MemoryOStream mem;
+  // Uncompressed, the file is a little more than its pixels: one allocation instead of a doubling
+  // series of copies.
+  size_t channels = 0;
+  for (auto it = header.channels().begin(); it != header.channels().end(); ++it) ++channels;
+  mem.bytes.reserve(size_t(img.width) * img.height * sizeof(float) * channels + (size_t(1) << 16));
   try {
     Imf::OutputFile out(mem, header);
     out.setFrameBuffer(fb);
