@@ -99,10 +99,12 @@ std::string encode_spectral_exr(const SpectralImage& img, const std::string& fil
   header.insert("spectralLayoutVersion", Imf::StringAttribute("1.0"));
   header.insert("emissiveUnits", Imf::StringAttribute("W.m^-2.sr^-1"));
   for (auto& [k, v] : img.attributes) header.insert(k, Imf::StringAttribute(v));
-  // Uncompressed: float radiance is noise down to its last mantissa bits, so ZIP saved only 6 % of
-  // the flat patch's file (19 % of the tongue's) at 2.6 CPU s per 55 MB, a sixth of the whole
-  // render's CPU time (benchmarks/RESULTS.md, side by side with pbrt-v4). Readers take any compression.
-  header.compression() = Imf::NO_COMPRESSION;
+  // ZIP chunks of 16 lines, stored without deflating (level 0): float radiance is noise down to its
+  // last mantissa bits, so deflating saved only 6 % of the flat patch's file (19 % of the tongue's)
+  // at 2.6 CPU s per 55 MB, a sixth of the whole render's CPU time; stored, 0.3 s (benchmarks/RESULTS.md,
+  // side by side with pbrt-v4).
+  header.compression() = Imf::ZIP_COMPRESSION;
+  header.zipCompressionLevel() = 0;
 
   std::vector<float> rgb = spectral_to_linear_srgb(img, 1.0);
   std::vector<std::string> names;
@@ -129,8 +131,8 @@ std::string encode_spectral_exr(const SpectralImage& img, const std::string& fil
     if (plane.size() == size_t(img.width) * img.height)
       fb.insert(name, Imf::Slice(Imf::FLOAT, (char*)plane.data(), sizeof(float), sizeof(float) * img.width));
   MemoryOStream mem;
-  // Uncompressed, the file is a little more than its pixels: one allocation instead of a doubling
-  // series of copies.
+  // Stored, the file is a little more than its pixels: one allocation instead of a doubling series
+  // of copies.
   size_t channels = 0;
   for (auto it = header.channels().begin(); it != header.channels().end(); ++it) ++channels;
   mem.bytes.reserve(size_t(img.width) * img.height * sizeof(float) * channels + (size_t(1) << 16));
