@@ -46,3 +46,45 @@ TEST(EmbreeSurface, FlatMeshNormalFromEmbreeEqualsTheVertexNormal) {
   }
   EXPECT_EQ(hits, 40);
 }
+
+// EmbreeScene::outward_face: on a lone flat square every continuation on the side of the normal
+// leaves the scene (both sides, checked against leaves_scene for many directions); with anything
+// above the square's plane it is not an outward face any more.
+TEST(EmbreeSurface, OutwardFaceOnlyWhereEveryContinuationLeaves) {
+  auto square = [](float z) {
+    TriangleMesh m;
+    m.material_id = 0;
+    m.positions = {{-0.05f, -0.05f, z}, {0.05f, -0.05f, z}, {-0.05f, 0.05f, z}, {0.05f, 0.05f, z}};
+    m.indices = {0, 1, 2, 2, 1, 3};
+    return m;
+  };
+  Scene flat;
+  flat.materials.emplace_back();
+  flat.meshes.push_back(square(0.0f));
+  EmbreeScene es(flat);
+  Rng r(3, 7);
+  for (double side : {1.0, -1.0}) {
+    const glm::dvec3 o(0.01, -0.02, 0.3 * side), d = glm::normalize(glm::dvec3(0.003, 0.001, 0) - o);
+    RayHit h = es.intersect(o, d);
+    ASSERT_TRUE(h.found());
+    SurfacePoint s = es.surface(h, o, d);
+    if (glm::dot(s.ng, -d) < 0) s.ng = -s.ng;  // as the path tracer turns it toward the viewer
+    ASSERT_TRUE(es.outward_face(s));
+    for (int i = 0; i < 2000; ++i) {
+      glm::dvec3 w = glm::normalize(glm::dvec3(r.next_double() - 0.5, r.next_double() - 0.5, r.next_double() - 0.5));
+      if (glm::dot(w, s.ng) <= 0) w = -w;
+      if (glm::dot(w, s.ng) <= 0) continue;
+      EXPECT_TRUE(es.leaves_scene(EmbreeScene::offset(s, w), w));
+    }
+  }
+  Scene two = flat;
+  two.meshes.push_back(square(0.02f));  // a second square above: the lower one faces it
+  EmbreeScene es2(two);
+  const glm::dvec3 o(0.01, -0.02, -0.3), d = glm::normalize(glm::dvec3(0.003, 0.001, 0) - o);
+  RayHit h = es2.intersect(o, d);
+  ASSERT_TRUE(h.found());
+  SurfacePoint s = es2.surface(h, o, d);
+  EXPECT_FALSE(es2.outward_face(s));  // from below, the normal as authored points up, at the other square
+  s.ng = -s.ng;
+  EXPECT_TRUE(es2.outward_face(s));   // turned toward the viewer below: nothing lies below z = 0
+}

@@ -93,6 +93,11 @@ PathTracer::PathTracer(const Scene& scene, const EmbreeScene& embree, const Rend
       light_choice_(scene.lights, tables.light_select,
                     scene.integrator.light_selection == IntegratorSpec::LightSelection::kPower),
       spatial_(scene, embree, tables) {
+  for (const auto& w : tables.band_weights) {
+    film_first_.push_back(int(film_bw_.size()));
+    film_bw_.insert(film_bw_.end(), w.begin(), w.end());
+  }
+  film_first_.push_back(int(film_bw_.size()));
   deterministic_ = scene.integrator.direct_excitation == IntegratorSpec::DirectExcitation::kDeterministic;
   for (const LedLight& l : scene.lights) hittable_emitters_ = hittable_emitters_ || !l.is_point();
   for (const MaterialTables& m : tables.materials) hittable_emitters_ = hittable_emitters_ || !m.emission.empty();
@@ -225,6 +230,7 @@ PathTracer::Continuation PathTracer::surface_vertex(const SurfacePoint& sp, cons
 
   // Continue the path: one direction for all lanes, then each lane picks its event.
   Continuation c;
+  if (embree_.outward_face(sp)) return c;  // whatever direction it samples leaves the scene
   glm::dvec3 wi;
   if (mt.coated && rng.next_double() < p_spec) {
     wi = coat.sample(wo, rng.next_double(), rng.next_double());
@@ -340,9 +346,11 @@ double PathTracer::splat(const PathLanes& p, double* bands, double* fluorescence
   double total = 0;
   for (int k = 0; k < kLanes; ++k) {
     if (p.L[k] == 0) continue;
-    double v = double(p.L[k]) * t_.film_scale[p.film[k]] / kLanes;
-    double vf = double(p.Lf[k]) * t_.film_scale[p.film[k]] / kLanes;
-    for (const auto& bw : t_.band_weights[p.film[k]]) {
+    const int f = p.film[k];
+    double v = double(p.L[k]) * t_.film_scale[f] / kLanes;
+    double vf = double(p.Lf[k]) * t_.film_scale[f] / kLanes;
+    for (int j = film_first_[f]; j < film_first_[f + 1]; ++j) {
+      const RenderTables::BandWeight& bw = film_bw_[j];
       bands[bw.band] += bw.weight * v;
       total += bw.weight * v;
       if (fluorescence) fluorescence[bw.band] += bw.weight * vf;

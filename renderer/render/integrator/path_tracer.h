@@ -68,6 +68,10 @@ class PathTracer {
   const EmbreeScene& embree_;
   const RenderTables& t_;
   GuidedSampler wavelengths_;  // RenderTables::wavelength_pdf without its binary search
+  // RenderTables::band_weights in one array (splat reads them once per lane): grid index i's weights
+  // are film_bw_[film_first_[i] .. film_first_[i + 1]).
+  std::vector<RenderTables::BandWeight> film_bw_;
+  std::vector<int> film_first_;
   LightChoice light_choice_;
   SpatialTransport spatial_;
   bool deterministic_;

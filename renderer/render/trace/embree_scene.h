@@ -76,6 +76,20 @@ class EmbreeScene {
       if ((of[i] > hi_[i] && df[i] >= 0) || (of[i] < lo_[i] && df[i] <= 0)) return true;
     return false;
   }
+  // Every continuation ray that leaves s on the side of its geometric normal leaves_scene: the
+  // normal lies exactly along an axis and the offset point (offset toward ng) is already beyond the
+  // scene's box on that axis (an outward face of the box, e.g. a lone flat patch). Then dot(d, ng) > 0
+  // gives d that axis's sign, so leaves_scene(offset(s, d), d) holds for every such d; the path
+  // tracer ends the path there without sampling the direction (the same paths, so the same image).
+  bool outward_face(const SurfacePoint& s) const {
+    for (int i = 0; i < 3; ++i) {
+      const int j = (i + 1) % 3, k = (i + 2) % 3;
+      if (s.ng[i] == 0 || s.ng[j] != 0 || s.ng[k] != 0) continue;
+      const float o = float(offset(s, s.ng)[i]);
+      return s.ng[i] > 0 ? o > hi_[i] : o < lo_[i];
+    }
+    return false;
+  }
 
  private:
   const Scene& src_;
