@@ -60,6 +60,27 @@ LocalMaterial local_material(const MaterialTables& mt, const std::vector<Texture
   return lm;
 }
 
+// Each lane's state where it reaches a coated surface's base: the wavelength, fluorescence flag and
+// weight after the internal reflections inside the coating, a number shared by the lanes (each lane
+// walks that many albedo-matrix steps, materials/interfaces/coated.h). Uncoated: the lane as it came.
+struct BaseLanes {
+  int wl[kLanes];
+  float w[kLanes];
+  bool fl[kLanes];
+};
+BaseLanes reach_base(const MaterialTables& mt, const GgxCoating& coat, const LocalMaterial& lm, const PathLanes& p, Rng& rng,
+                     int n) {
+  BaseLanes b;
+  for (int k = 0; k < kLanes; ++k) { b.wl[k] = p.wl[k]; b.w[k] = 1; b.fl[k] = p.fl[k]; }
+  if (!mt.coated) return b;
+  int bounces = 0;
+  while (bounces < 64 && rng.next_double() < coat.internal_reflectance) ++bounces;
+  for (int i = 0; i < bounces; ++i)
+    for (int k = 0; k < kLanes; ++k)
+      if (p.beta[k] > 0) b.w[k] *= albedo_step(lm, b.wl[k], rng, n, &b.fl[k]);
+  return b;
+}
+
 }  // namespace
 
 const char* stage_name(int stage) {
@@ -179,19 +200,10 @@ PathTracer::Continuation PathTracer::surface_vertex(const SurfacePoint& sp, cons
   const LocalMaterial lm = local_material(mt, scene_.textures, sp.uv);
 
   const GgxCoating& coat = diffuse_seen ? mt.coating_regularized : mt.coating;
-  // The base is reached after n internal reflections inside the coating (shared by the lanes);
-  // each lane walks n albedo-matrix steps first (materials/interfaces/coated.h).
-  int wl_base[kLanes];
-  float w_base[kLanes];
-  bool fl_base[kLanes];
-  for (int k = 0; k < kLanes; ++k) { wl_base[k] = p.wl[k]; w_base[k] = 1; fl_base[k] = p.fl[k]; }
-  if (mt.coated) {
-    int bounces = 0;
-    while (bounces < 64 && rng.next_double() < coat.internal_reflectance) ++bounces;
-    for (int b = 0; b < bounces; ++b)
-      for (int k = 0; k < kLanes; ++k)
-        if (p.beta[k] > 0) w_base[k] *= albedo_step(lm, wl_base[k], rng, n, &fl_base[k]);
-  }
+  const BaseLanes base = reach_base(mt, coat, lm, p, rng, n);
+  const int* wl_base = base.wl;
+  const float* w_base = base.w;
+  const bool* fl_base = base.fl;
   const double p_spec = mt.coated ? std::clamp(coat.specular_albedo(wo.z), 0.1, 0.9) : 0.0;
   auto kernel = [&](const glm::dvec3& wi) { return mt.coated ? coat.diffuse_kernel(wi.z, wo.z) : 1.0 / kPi; };
   auto dir_pdf = [&](const glm::dvec3& wi) {
