@@ -70,8 +70,10 @@ double inside_fraction(double px, double py, double qx, double qy, double a) {
 // mean, the log ratio's end and chord parts, longer passages (diffuse light crosses a layer of
 // thickness L along 2 L on average), and soft memberships: the ends and the chord's points count as
 // the disc by an erfc of their distance to its edge, the darker material grown by sigma (x > 0 in mm,
-// x < 0 in units of L) or both blurred.
-enum class Kind { kShipped, kCap, kFullChord, kGeometricMean, kEndChordSplit, kPassage, kSoftDarker, kSoftBoth };
+// x < 0 in units of L) or both blurred; the darker material's share (the lower diffuse reflectance)
+// raised to the power x (0: any share makes it all the darker material's); the power mean of
+// exponent x of the two profiles at the path's length, weighted by the shipped shares.
+enum class Kind { kShipped, kCap, kFullChord, kGeometricMean, kEndChordSplit, kPassage, kSoftDarker, kSoftBoth, kDarkerPower, kPowerMean };
 struct Rule {
   const char* name;
   Kind kind;
@@ -84,7 +86,11 @@ const Rule kRules[] = {{"shipped (2 L cap)", Kind::kShipped, 0},       {"cap 0.5
                        {"passages of 2 L", Kind::kPassage, 2},
                        {"darker grown 0.05 mm", Kind::kSoftDarker, 0.05}, {"darker grown 0.1 mm", Kind::kSoftDarker, 0.1},
                        {"darker grown 0.15 mm", Kind::kSoftDarker, 0.15}, {"darker grown 0.5 L", Kind::kSoftDarker, -0.5},
-                       {"both blurred 0.05 mm", Kind::kSoftBoth, 0.05}, {"both blurred 0.1 mm", Kind::kSoftBoth, 0.1}};
+                       {"both blurred 0.05 mm", Kind::kSoftBoth, 0.05}, {"both blurred 0.1 mm", Kind::kSoftBoth, 0.1},
+                       {"darker share ^0.75", Kind::kDarkerPower, 0.75}, {"darker share ^0.85", Kind::kDarkerPower, 0.85}, {"darker share ^0.8", Kind::kDarkerPower, 0.8}, {"darker share ^0.7", Kind::kDarkerPower, 0.7}, {"darker share ^0.65", Kind::kDarkerPower, 0.65}, {"darker share ^0.5", Kind::kDarkerPower, 0.5},
+                       {"darker share ^0.25", Kind::kDarkerPower, 0.25}, {"darker wins", Kind::kDarkerPower, 0},
+                       {"power mean q = -0.5", Kind::kPowerMean, -0.5}, {"power mean q = -1", Kind::kPowerMean, -1},
+                       {"power mean q = -2", Kind::kPowerMean, -2}, {"power mean q = -3", Kind::kPowerMean, -3}};
 constexpr int kNumRules = sizeof(kRules) / sizeof(kRules[0]);
 
 // A rule tried and not kept (docs/layered-tissue.md, "Regions and lateral transport"): the log ratio
@@ -161,6 +167,20 @@ void rule_values(double d, double xi, double yi, double r, double a, double L, c
       case Kind::kFullChord: v[k] = mix(r, L); break;
       case Kind::kGeometricMean: v[k] = std::sqrt(p[mi] * p[mo]); break;
       case Kind::kPassage: v[k] = mix(cap, rule.x * L); break;
+      case Kind::kPowerMean: {
+        const double share = passage_share(f, mi + mo, 2, L, cap);
+        if (!(p[0] > 0 && p[1] > 0)) { v[k] = mix(cap, L); break; }
+        v[k] = std::pow(share * std::pow(p[1], rule.x) + (1 - share) * std::pow(p[0], rule.x), 1 / rule.x);
+        break;
+      }
+      case Kind::kDarkerPower: {
+        const double share = passage_share(f, mi + mo, 2, L, cap);
+        const double dark = disc_darker ? share : 1 - share;
+        const double dp = dark <= 0 ? 0.0 : (rule.x > 0 ? std::pow(dark, rule.x) : 1.0);
+        const double s1 = disc_darker ? dp : 1 - dp;
+        v[k] = std::pow(p[1], s1) * std::pow(p[0], 1 - s1);
+        break;
+      }
       case Kind::kSoftDarker:
       case Kind::kSoftBoth: {
         const double sigma = rule.x > 0 ? rule.x : -rule.x * L;
