@@ -5,12 +5,13 @@
 // the two presets' elastic exit profiles at the camera's cosine (straight above) are integrated over
 // the ring's exit points and every entry point under each rule, over the same integral for the
 // disc-free tissue. A rule's prediction of the ring is the rendered contrast plus (its integral minus
-// the shipped rule's); it is counted against the Monte Carlo's radiance along the normal as the bench
+// that of the rule the runs were rendered with); it is counted against the Monte Carlo's radiance along the normal as the bench
 // case counts (within 2 % or 3 combined standard errors). One wavelength stands for each band (450,
 // 560, 630 nm), the light's direction is taken as the normal's, and only reflected light is compared:
 // a guide to which rule to render, not a substitute for rendering it.
-//   usage: lesion_rules [--runs DIR] [--preset blood_spot|dysplasia] [--rings]
-//   (--rings: every ring's Monte Carlo value, tolerance, rendered value and each other rule's prediction)
+//   usage: lesion_rules [--runs DIR] [--preset blood_spot|dysplasia] [--rings] [--unraised-runs]
+//   (--rings: every ring's Monte Carlo value, tolerance, rendered value and each rule's prediction;
+//   --unraised-runs: the runs were rendered before the darker shares, with the "shares unraised" rule)
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -65,8 +66,9 @@ double inside_fraction(double px, double py, double qx, double qy, double a) {
   return t1 > t0 ? t1 - t0 : 0.0;
 }
 
-// The rules: the shipped one first (passages of L, the chord among them, chord_among_passages_mm),
-// then the chord's cap with other constants, the full chord (before 2026-11-28), the ends' geometric
+// The rules: the shipped one first (passages of L, the chord among them, chord_among_passages_mm,
+// the darker material's share raised by darker_shares), the same shares unraised (shipped until
+// 2026-11-28), then the chord's cap with other constants, the full chord (before 2026-11-28), the ends' geometric
 // mean, the log ratio's end and chord parts, longer passages (diffuse light crosses a layer of
 // thickness L along 2 L on average), and soft memberships: the ends and the chord's points count as
 // the disc by an erfc of their distance to its edge, the darker material grown by sigma (x > 0 in mm,
@@ -79,7 +81,8 @@ struct Rule {
   Kind kind;
   double x;  // kCap: the chord counts r / (1 + r / (x L)); kPassage: each passage is x L long (cap 2 L)
 };
-const Rule kRules[] = {{"shipped (2 L cap)", Kind::kShipped, 0},       {"cap 0.5 L", Kind::kCap, 0.5},
+const Rule kRules[] = {{"shipped (2 L cap, darker ^0.8)", Kind::kShipped, 0},
+                       {"shares unraised", Kind::kDarkerPower, 1},  {"cap 0.5 L", Kind::kCap, 0.5},
                        {"cap 1 L", Kind::kCap, 1},                 {"cap 4 L", Kind::kCap, 4},
                        {"full chord", Kind::kFullChord, 0},        {"geometric mean of the ends", Kind::kGeometricMean, 0},
                        {"end and chord parts", Kind::kEndChordSplit, 0}, {"passages of 1.5 L", Kind::kPassage, 1.5},
@@ -162,7 +165,14 @@ void rule_values(double d, double xi, double yi, double r, double a, double L, c
   for (int k = 0; k < kNumRules; ++k) {
     const Rule& rule = kRules[k];
     switch (rule.kind) {
-      case Kind::kShipped: v[k] = mix(cap, L); break;  // chord_among_passages_mm, the renderer's
+      case Kind::kShipped: {  // chord_among_passages_mm and darker_shares, the renderer's
+        const double share = passage_share(f, mi + mo, 2, L, cap);
+        const double shares[2] = {1 - share, share}, refl[2] = {disc_darker ? 1.0 : 0.0, disc_darker ? 0.0 : 1.0};
+        double out[2];
+        darker_shares(2, shares, refl, kDarkerShareGamma, out);
+        v[k] = std::pow(p[1], out[1]) * std::pow(p[0], out[0]);
+        break;
+      }
       case Kind::kCap: v[k] = mix(r / (1 + r / (rule.x * L)), L); break;
       case Kind::kFullChord: v[k] = mix(r, L); break;
       case Kind::kGeometricMean: v[k] = std::sqrt(p[mi] * p[mo]); break;
@@ -248,9 +258,11 @@ void ring_integrals(const Preset& healthy, const Preset& disc, int wl, double a,
 int run(int argc, char** argv) {
   std::string runs = "benchmarks/results.d/lesion_runs", preset = "blood_spot";
   bool rings = false;
+  int base = 0;  // the rule the runs were rendered with: each rule's prediction is the run's value plus its change
   for (int i = 1; i < argc; i += 2) {
     const std::string k = argv[i];
     if (k == "--rings") { rings = true; --i; continue; }
+    if (k == "--unraised-runs") { base = 1; --i; continue; }  // runs rendered before darker_shares (2026-11-28)
     if (i + 1 >= argc) { std::fprintf(stderr, "lesion_rules: %s needs a value\n", k.c_str()); return 2; }
     if (k == "--runs") runs = argv[i + 1];
     else if (k == "--preset") preset = argv[i + 1];
@@ -283,12 +295,12 @@ int run(int argc, char** argv) {
         const double mc = x["forward_mc"]["contrast"][b][k], se = x["forward_mc"]["se"][b][k];
         const double sp = x["spatial"]["contrast"][b][k], sse = x["spatial"]["se"][b][k];
         const double tol = mc_tolerance(0.02, mc, std::sqrt(se * se + sse * sse));
-        for (int r = 0; r < kNumRules; ++r) disc_pass[r] += std::abs(sp + v[r] - v[0] - mc) <= tol;
+        for (int r = 0; r < kNumRules; ++r) disc_pass[r] += std::abs(sp + v[r] - v[base] - mc) <= tol;
         if (rings)
           {
           std::printf("    %.0f nm, %.2f-%.2f mm: Monte Carlo %.3f (tolerance %.3f), rendered %.3f; rules:", band_nm[b],
                       double(edges[k]), double(edges[k + 1]), mc, tol, sp);
-          for (int r = 1; r < kNumRules; ++r) std::printf(" %.3f", sp + v[r] - v[0]);
+          for (int r = 0; r < kNumRules; ++r) std::printf(" %.3f", sp + v[r] - v[base]);
           std::printf("\n");
         }
         ++disc_total;

@@ -119,6 +119,36 @@ TEST(LayeredSpatial, FluorescenceProfileMatchesForwardPhotons) {
   EXPECT_LT(inner, 0.33);
 }
 
+// The darker materials' crossing shares (darker_shares): for two materials the darker one's share d
+// becomes d^gamma and the other's 1 - d^gamma, whichever index it has; for three, the cumulative
+// shares from the darkest up are raised to gamma; shares still sum to one, a material without a share
+// keeps none, and gamma = 1 changes nothing.
+TEST(LayeredSpatial, DarkerSharesRaiseTheCumulativeShareOfTheDarker) {
+  const double g = 0.8;
+  double out[3];
+  const double two[2] = {0.3, 0.7};
+  const double dark_first[2] = {0.1, 0.5}, dark_second[2] = {0.5, 0.1};
+  darker_shares(2, two, dark_first, g, out);
+  EXPECT_NEAR(out[0], std::pow(0.3, g), 1e-12);
+  EXPECT_NEAR(out[1], 1.0 - std::pow(0.3, g), 1e-12);
+  darker_shares(2, two, dark_second, g, out);
+  EXPECT_NEAR(out[1], std::pow(0.7, g), 1e-12);
+  EXPECT_NEAR(out[0], 1.0 - std::pow(0.7, g), 1e-12);
+  const double three[3] = {0.2, 0.5, 0.3}, refl[3] = {0.4, 0.6, 0.1};  // order: 2, 0, 1
+  darker_shares(3, three, refl, g, out);
+  EXPECT_NEAR(out[2], std::pow(0.3, g), 1e-12);
+  EXPECT_NEAR(out[0], std::pow(0.5, g) - std::pow(0.3, g), 1e-12);
+  EXPECT_NEAR(out[1], 1.0 - std::pow(0.5, g), 1e-12);
+  EXPECT_NEAR(out[0] + out[1] + out[2], 1.0, 1e-12);
+  const double with_zero[3] = {0.0, 0.6, 0.4}, zero_darkest[3] = {0.05, 0.3, 0.2};
+  darker_shares(3, with_zero, zero_darkest, g, out);
+  EXPECT_EQ(out[0], 0.0);
+  EXPECT_NEAR(out[2], std::pow(0.4, g), 1e-12);
+  EXPECT_NEAR(out[1], 1.0 - std::pow(0.4, g), 1e-12);
+  darker_shares(3, three, refl, 1.0, out);
+  for (int j = 0; j < 3; ++j) EXPECT_NEAR(out[j], three[j], 1e-12);
+}
+
 TEST(LayeredSpatial, LesionDiscMatchesThreeDimensionalMonteCarlo) {
   for (const char* name : {"spatial_lesion_dysplasia_1mm", "spatial_lesion_dysplasia_1mm_fluorescence"}) {
     const CheckCaseResult r = run_check_case(name, test::kSanitized ? 200000 : 800000, 1);

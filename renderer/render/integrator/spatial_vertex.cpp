@@ -394,25 +394,34 @@ SpatialTransport::Entry SpatialTransport::sample_fluorescent(Vertex& v, Rng& rng
 // The elastic BSSRDF's value per lane (1/(sr mm^2)) for light entering at e.xi with cosine mu_i and
 // leaving x_o toward the viewer: the table's directional factor times the exit profile at |x_i - x_o|.
 // Within one material that is the material's own; where the segment from x_o to x_i crosses
-// regions, the product of each crossed material's value raised to the share of the segment it holds
+// regions, the product of each crossed material's value raised to its share of the path
 // (docs/layered-tissue.md, "Regions and lateral transport"): light is attenuated by each material in
-// proportion to the way it travels in it, as diffusion attenuates it, and the rule is reciprocal.
+// proportion to the way it travels in it, as diffusion attenuates it, with the darker materials'
+// shares raised per lane (darker_shares, by the directional factor); the rule is reciprocal.
 void SpatialTransport::elastic_values(const Vertex& v, const Entry& e, double mu_i, double* f) const {
-  auto one = [&](const MaterialTables& m, double* out) {
+  auto one = [&](const MaterialTables& m, double* dir, double* out) {
     const StackResponse& R = *m.stack.response;
     const SpatialStack& S = *m.stack.spatial;
     const auto a = R.weights(v.mu_o), b = R.weights(mu_i);
-    for (int k = 0; k < kLanes; ++k)
-      out[k] = v.p.beta[k] == 0 ? 0.0 : R.elastic_at(a, b, v.p.wl[k]) * S.elastic_density(v.co, v.p.wl[k], e.r_mm);
+    for (int k = 0; k < kLanes; ++k) {
+      dir[k] = v.p.beta[k] == 0 ? 0.0 : R.elastic_at(a, b, v.p.wl[k]);
+      out[k] = v.p.beta[k] == 0 ? 0.0 : dir[k] * S.elastic_density(v.co, v.p.wl[k], e.r_mm);
+    }
   };
   const Chord c = crossing_shares(e.chord, v.xo.material, e.xi.material, e.r_mm);
-  if (c.n == 1) return one(t_.materials[c.material[0]], f);
-  double g[kLanes];
-  for (int k = 0; k < kLanes; ++k) f[k] = 1.0;
-  for (int j = 0; j < c.n; ++j) {
-    if (!(c.share[j] > 0)) continue;
-    one(t_.materials[c.material[j]], g);
-    for (int k = 0; k < kLanes; ++k) f[k] *= std::pow(g[k], c.share[j]);
+  double dir[Chord::kMax][kLanes], g[Chord::kMax][kLanes];
+  if (c.n == 1) return one(t_.materials[c.material[0]], dir[0], f);
+  for (int j = 0; j < c.n; ++j)
+    if (c.share[j] > 0) one(t_.materials[c.material[j]], dir[j], g[j]);
+  for (int k = 0; k < kLanes; ++k) {
+    f[k] = 0.0;
+    if (v.p.beta[k] == 0) continue;
+    double refl[Chord::kMax], share[Chord::kMax];
+    for (int j = 0; j < c.n; ++j) refl[j] = c.share[j] > 0 ? dir[j][k] : 0.0;
+    darker_shares(c.n, c.share, refl, kDarkerShareGamma, share);
+    f[k] = 1.0;
+    for (int j = 0; j < c.n; ++j)
+      if (share[j] > 0) f[k] *= std::pow(g[j][k], share[j]);
   }
 }
 
