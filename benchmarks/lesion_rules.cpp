@@ -5,8 +5,8 @@
 // the two presets' elastic exit profiles at the camera's cosine (straight above) are integrated over
 // the ring's exit points and every entry point under each rule, over the same integral for the
 // disc-free tissue. A rule's prediction of the ring is the rendered contrast plus (its integral minus
-// that of the rule the runs were rendered with); it is counted against the Monte Carlo's radiance along the normal as the bench
-// case counts (within 2 % or 3 combined standard errors). One wavelength stands for each band (450,
+// that of the rule the runs were rendered with); it is counted against the Monte Carlo's radiance
+// along the normal as the bench case counts (within 2 % or 3 combined standard errors). One wavelength stands for each band (450,
 // 560, 630 nm), the light's direction is taken as the normal's, and only reflected light is compared:
 // a guide to which rule to render, not a substitute for rendering it.
 //   usage: lesion_rules [--runs DIR] [--preset blood_spot|dysplasia] [--rings] [--unraised-runs]
@@ -68,13 +68,13 @@ double inside_fraction(double px, double py, double qx, double qy, double a) {
 
 // The rules: the shipped one first (passages of L, the chord among them, chord_among_passages_mm,
 // the darker material's share raised by darker_shares), the same shares unraised (shipped until
-// 2026-11-28), then the chord's cap with other constants, the full chord (before 2026-11-28), the ends' geometric
-// mean, the log ratio's end and chord parts, longer passages (diffuse light crosses a layer of
-// thickness L along 2 L on average), and soft memberships: the ends and the chord's points count as
-// the disc by an erfc of their distance to its edge, the darker material grown by sigma (x > 0 in mm,
-// x < 0 in units of L) or both blurred; the darker material's share (the lower diffuse reflectance)
-// raised to the power x (0: any share makes it all the darker material's); the power mean of
-// exponent x of the two profiles at the path's length, weighted by the shipped shares.
+// 2026-11-28), then the chord's cap with other constants, the full chord (before 2026-11-28), the
+// ends' geometric mean, the log ratio's end and chord parts, longer passages (diffuse light crosses
+// a layer of thickness L along 2 L on average), and soft memberships: the ends and the chord's points
+// count as the disc by an erfc of their distance to its edge, the darker material grown by sigma
+// (x > 0 in mm, x < 0 in units of L) or both blurred; the darker material's share (the lower diffuse
+// reflectance) raised to the power x (0: any share makes it all the darker material's); the power
+// mean of exponent x of the two profiles at the path's length, weighted by the unraised shares.
 enum class Kind { kShipped, kCap, kFullChord, kGeometricMean, kEndChordSplit, kPassage, kSoftDarker, kSoftBoth, kDarkerPower, kPowerMean };
 struct Rule {
   const char* name;
