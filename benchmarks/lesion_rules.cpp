@@ -165,14 +165,6 @@ void rule_values(double d, double xi, double yi, double r, double a, double L, c
   for (int k = 0; k < kNumRules; ++k) {
     const Rule& rule = kRules[k];
     switch (rule.kind) {
-      case Kind::kShipped: {  // chord_among_passages_mm and darker_shares, the renderer's
-        const double share = passage_share(f, mi + mo, 2, L, cap);
-        const double shares[2] = {1 - share, share}, refl[2] = {disc_darker ? 1.0 : 0.0, disc_darker ? 0.0 : 1.0};
-        double out[2];
-        darker_shares(2, shares, refl, kDarkerShareGamma, out);
-        v[k] = std::pow(p[1], out[1]) * std::pow(p[0], out[0]);
-        break;
-      }
       case Kind::kCap: v[k] = mix(r / (1 + r / (rule.x * L)), L); break;
       case Kind::kFullChord: v[k] = mix(r, L); break;
       case Kind::kGeometricMean: v[k] = std::sqrt(p[mi] * p[mo]); break;
@@ -183,12 +175,13 @@ void rule_values(double d, double xi, double yi, double r, double a, double L, c
         v[k] = std::pow(share * std::pow(p[1], rule.x) + (1 - share) * std::pow(p[0], rule.x), 1 / rule.x);
         break;
       }
+      case Kind::kShipped:  // chord_among_passages_mm and darker_shares at the renderer's gamma
       case Kind::kDarkerPower: {
         const double share = passage_share(f, mi + mo, 2, L, cap);
-        const double dark = disc_darker ? share : 1 - share;
-        const double dp = dark <= 0 ? 0.0 : (rule.x > 0 ? std::pow(dark, rule.x) : 1.0);
-        const double s1 = disc_darker ? dp : 1 - dp;
-        v[k] = std::pow(p[1], s1) * std::pow(p[0], 1 - s1);
+        const double shares[2] = {1 - share, share}, refl[2] = {disc_darker ? 1.0 : 0.0, disc_darker ? 0.0 : 1.0};
+        double out[2];
+        darker_shares(2, shares, refl, rule.kind == Kind::kShipped ? kDarkerShareGamma : rule.x, out);
+        v[k] = std::pow(p[1], out[1]) * std::pow(p[0], out[0]);
         break;
       }
       case Kind::kSoftDarker:
