@@ -13,12 +13,15 @@
 
 #include <tbb/global_control.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <limits>
 
 #include "renderer/core/errors/error.h"
 #include "renderer/core/files/json_node.h"
+#include "renderer/image/texture.h"
+#include "renderer/scene/scene.h"
 #include "renderer/render/render_job.h"
 #include "renderer/render/trace/embree_scene.h"
 #include "renderer/render/trace/rng.h"
@@ -166,7 +169,7 @@ TEST(LayeredVolume, UvGradientOfAQuadIsItsInverseSize) {
 }
 
 // The clearance the walk skips region reads within: the distance to the nearest sphere of the
-// regions material (closed form), infinite without regions, 0 where a texture mask decides; and
+// regions material (closed form), infinite without regions, 0 where a texture mask decides and no texture coordinates are given (see MaskClearanceBoundsWhereTheRegionEnds); and
 // within it resolve_material's answer indeed does not change.
 TEST(LayeredVolume, RegionClearanceIsTheDistanceToTheNearestSphere) {
   const json mats = discs({{"type", "layered_tissue"}, {"preset", "lateral_tongue"}}, {{"type", "layered_tissue"}, {"preset", "blood_spot"}});
@@ -204,6 +207,95 @@ TEST(LayeredVolume, RegionClearanceIsTheDistanceToTheNearestSphere) {
   } catch (const std::exception& e) {
     FAIL() << e.what();
   }
+}
+
+// The mask's side distance is the exact periodic Euclidean distance transform: against the brute
+// force minimum over every texel of the other side and its wrapped copies, on a random texture.
+TEST(LayeredVolume, MaskSideDistanceIsTheExactDistanceToTheOtherSide) {
+  Texture t;
+  t.width = 23;
+  t.height = 17;
+  Rng rng(3, 0);
+  for (int i = 0; i < t.width * t.height; ++i) t.texels.push_back(float(rng.next_double() < 0.08 ? 0.9 : 0.1));
+  const std::vector<float> d = side_distance_texels(t, 0.5f);
+  ASSERT_EQ(d.size(), t.texels.size());
+  for (int y = 0; y < t.height; ++y)
+    for (int x = 0; x < t.width; ++x) {
+      const bool above = t.texels[size_t(y) * t.width + x] > 0.5f;
+      double want = std::numeric_limits<double>::infinity();
+      for (int yy = 0; yy < t.height; ++yy)
+        for (int xx = 0; xx < t.width; ++xx) {
+          if ((t.texels[size_t(yy) * t.width + xx] > 0.5f) == above) continue;
+          for (int wy = -1; wy <= 1; ++wy)
+            for (int wx = -1; wx <= 1; ++wx)
+              want = std::min(want, std::hypot(double(xx + wx * t.width - x), double(yy + wy * t.height - y)));
+        }
+      ASSERT_NEAR(d[size_t(y) * t.width + x], want, 1e-5) << "texel " << x << ", " << y;
+    }
+  // One side only: nothing to reach.
+  Texture flat = t;
+  std::fill(flat.texels.begin(), flat.texels.end(), 0.2f);
+  for (float v : side_distance_texels(flat, 0.5f)) EXPECT_TRUE(std::isinf(v));
+}
+
+// A texture mask's clearance along the plane: within it resolve_material does not change (in every
+// direction, the texture stretched twice as much along u as along v), and it is within two texels of
+// the distance to the mask's contour (a disc of radius 20 texels, closed form) where the stretch is
+// the same both ways; a surface whose texture coordinates do not change is never bounded.
+TEST(LayeredVolume, MaskClearanceBoundsWhereTheRegionEnds) {
+  Scene sc;
+  Texture t;
+  t.width = t.height = 128;
+  constexpr double kR = 20.0;  // the contour: value 0.5 at kR texels from the centre, a linear ramp across it
+  for (int y = 0; y < t.height; ++y)
+    for (int x = 0; x < t.width; ++x)
+      t.texels.push_back(float(std::clamp(0.5 + (kR - std::hypot(x + 0.5 - 64.0, y + 0.5 - 64.0)) / 4.0, 0.0, 1.0)));
+  sc.textures.push_back(t);
+  sc.materials.resize(3);
+  sc.materials[0].name = "outside";
+  sc.materials[1].name = "inside";
+  Material& m = sc.materials[2];
+  m.name = "regions";
+  m.regions_base_name = "outside";
+  m.regions_base = 0;
+  MaterialRegion r;
+  r.texture = 0;
+  r.threshold = 0.5;
+  r.material = 1;
+  r.side_distance = side_distance_texels(t, 0.5f);
+  m.regions.push_back(r);
+  // u = x / 10 mm, v = y / 20 mm on the plane z = 0.
+  const glm::dvec3 gu(100.0, 0, 0), gv(0, 50.0, 0);
+  const UvMetric aniso{glm::dot(gu, gu), 0.0, glm::dot(gv, gv)};
+  Rng rng(17, 0);
+  int bounded = 0;
+  for (int i = 0; i < 400; ++i) {
+    const glm::dvec3 p(0.01 * rng.next_double(), 0.02 * rng.next_double(), 0.0);
+    const float u = float(p.x * 100.0), v = float(p.y * 50.0);
+    const double c = region_clearance_m(sc, 2, p, u, v, aniso);
+    ASSERT_GE(c, 0.0);
+    bounded += c > 0;
+    const int here = resolve_material(sc, 2, u, v, p);
+    for (int k = 0; k < 16; ++k) {
+      const double a = 6.283185307179586 * k / 16.0;
+      const glm::dvec3 q = p + 0.999 * c * glm::dvec3(std::cos(a), std::sin(a), 0.0);
+      ASSERT_EQ(resolve_material(sc, 2, float(q.x * 100.0), float(q.y * 50.0), q), here) << "point " << i << ", direction " << k;
+    }
+  }
+  EXPECT_GT(bounded, 300);  // most of the plane lies more than 1.5 sqrt 2 texels from the contour
+  // Isotropic stretch (u = x / 10 mm, v = y / 10 mm): 1 texel = 10 mm / 128; the bound against the
+  // distance to the contour, r texels from the disc's centre.
+  const UvMetric iso{1e4, 0.0, 1e4};
+  const double texel_m = 0.01 / 128;
+  for (int i = 0; i < 400; ++i) {
+    const double ut = 128.0 * rng.next_double(), vt = 128.0 * rng.next_double();
+    const double want = std::abs(std::hypot(ut - 64.0, vt - 64.0) - kR) * texel_m;
+    const double c = region_clearance_m(sc, 2, glm::dvec3(0.0), float(ut / 128), float(vt / 128), iso);
+    EXPECT_LE(c, want + 0.5 * texel_m) << ut << ", " << vt;
+    EXPECT_GE(c, want - (1.5 * std::sqrt(2.0) + 0.75) * texel_m) << ut << ", " << vt;
+  }
+  EXPECT_TRUE(std::isinf(region_clearance_m(sc, 2, glm::dvec3(0.0), 0.3f, 0.3f, UvMetric{})));
+  EXPECT_TRUE(std::isinf(region_clearance_m(sc, 0, glm::dvec3(0.0), 0.3f, 0.3f, iso)));
 }
 
 TEST(LayeredVolume, SameImageAtAnyThreadCount) {

@@ -43,6 +43,9 @@ struct Coating {
 struct MaterialRegion {
   int texture = -1;  // the mask; -1 for a sphere region
   double threshold = 0.5;
+  // Per texel of the mask, the distance in texels to the nearest texel on the other side of the
+  // threshold (side_distance_texels): the walk's bound on where the region can end.
+  std::vector<float> side_distance;
   bool sphere = false;
   double centre_m[3] = {0, 0, 0};
   double radius_m = 0;

@@ -92,9 +92,18 @@ Scene load_scene(const std::filesystem::path& file, const SceneOverrides& overri
 // The material at a surface point: a "regions" material resolves to the material its masks give at
 // (u, v) or its spheres give at p; any other material is itself.
 int resolve_material(const Scene& scene, int material, float u, float v, const glm::dvec3& p);
-// A lower bound, in metres, on the distance from p to the nearest point where resolve_material's
-// answer can change: the distance to the nearest sphere of a "regions" material (infinite for a
-// material without regions), 0 when a texture mask decides (no bound without a distance map).
+// How texture coordinates stretch along a surface: the Gram matrix of their gradients (per metre),
+// uu = |grad u|^2, uv = grad u . grad v, vv = |grad v|^2. All zero: (u, v) do not change along it.
+struct UvMetric {
+  double uu = 0, uv = 0, vv = 0;
+};
+// A lower bound, in metres, on the distance from p to the nearest point of the surface's tangent
+// plane (texture coordinates (u, v) at p, stretching as `metric`) where resolve_material's answer can
+// change: the distance to the nearest sphere of a "regions" material, and for a texture mask its
+// side distance at the nearest texel less 1.5 sqrt 2 texels, over the mask's largest stretch
+// (side_distance_texels); infinite for a material without regions.
+double region_clearance_m(const Scene& scene, int material, const glm::dvec3& p, float u, float v, const UvMetric& metric);
+// The same without texture coordinates: 0 when a texture mask decides.
 double region_clearance_m(const Scene& scene, int material, const glm::dvec3& p);
 Scene load_scene(const JsonFile& doc, const SceneOverrides& overrides = {});
 

@@ -207,18 +207,48 @@ int resolve_material(const Scene& sc, int material, float u, float v, const glm:
   return m.regions_base;
 }
 
-double region_clearance_m(const Scene& sc, int material, const glm::dvec3& p) {
+namespace {
+
+// A texture mask's bound (region_clearance_m): the side distance at the texel nearest (u, v), less
+// the 1.5 sqrt 2 texels within which bilinear interpolation from a texel of the other side reaches,
+// converted to metres by the largest stretch of texels per metre along the plane (the square root
+// of the largest eigenvalue of the texel-space Gram matrix).
+double mask_clearance_m(const Texture& t, const MaterialRegion& r, float u, float v, const UvMetric& g) {
+  const double a = g.uu * t.width * t.width, b = g.uv * t.width * t.height, c = g.vv * t.height * t.height;
+  const double stretch = std::sqrt(0.5 * (a + c) + std::sqrt(0.25 * (a - c) * (a - c) + b * b));
+  if (!(stretch > 0)) return std::numeric_limits<double>::infinity();  // the mask reads one point
+  if (r.side_distance.size() != t.texels.size()) return 0.0;
+  const int x = std::clamp(int(std::floor((u - std::floor(u)) * t.width)), 0, t.width - 1);
+  const int y = std::clamp(int(std::floor((v - std::floor(v)) * t.height)), 0, t.height - 1);
+  const double texels = double(r.side_distance[size_t(y) * t.width + x]) - 1.5 * std::sqrt(2.0);
+  return texels > 0 ? texels / stretch : 0.0;
+}
+
+double clearance_m(const Scene& sc, int material, const glm::dvec3& p, const float* uv, const UvMetric& g) {
   if (material < 0) return std::numeric_limits<double>::infinity();
   const Material& m = sc.materials[material];
   if (!m.dispatches()) return std::numeric_limits<double>::infinity();
   double clear = std::numeric_limits<double>::infinity();
   for (const auto& r : m.regions) {
-    if (!r.sphere) return 0.0;
+    if (!r.sphere) {
+      if (!uv) return 0.0;
+      clear = std::min(clear, mask_clearance_m(sc.textures[size_t(r.texture)], r, uv[0], uv[1], g));
+      continue;
+    }
     const glm::dvec3 d = p - glm::dvec3(r.centre_m[0], r.centre_m[1], r.centre_m[2]);
     clear = std::min(clear, std::abs(glm::length(d) - r.radius_m));
   }
   return clear;
 }
+
+}  // namespace
+
+double region_clearance_m(const Scene& sc, int material, const glm::dvec3& p, float u, float v, const UvMetric& metric) {
+  const float uv[2] = {u, v};
+  return clearance_m(sc, material, p, uv, metric);
+}
+
+double region_clearance_m(const Scene& sc, int material, const glm::dvec3& p) { return clearance_m(sc, material, p, nullptr, {}); }
 
 Scene load_scene(const std::filesystem::path& file, const SceneOverrides& ov) { return load_scene(JsonFile::load(file), ov); }
 

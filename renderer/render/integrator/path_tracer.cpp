@@ -26,14 +26,17 @@ constexpr double kMmPerMetre = 1000.0;
 class TangentPlaneRegions final : public LateralMaterials {
  public:
   TangentPlaneRegions(const Scene& sc, int base, const SurfacePoint& sp, const Frame& f, const UvGradient& g)
-      : sc_(sc), base_(base), p_(sp.p), uv_(sp.uv), x_(f.x / kMmPerMetre), y_(f.y / kMmPerMetre), g_(g) {}
+      : sc_(sc), base_(base), p_(sp.p), uv_(sp.uv), x_(f.x / kMmPerMetre), y_(f.y / kMmPerMetre), g_(g),
+        metric_{glm::dot(g.u, g.u), glm::dot(g.u, g.v), glm::dot(g.v, g.v)} {}
   int material_at(const glm::dvec2& pos) const override {
     const glm::dvec3 d = pos.x * x_ + pos.y * y_;
     const glm::vec2 uv = uv_ + glm::vec2(float(glm::dot(g_.u, d)), float(glm::dot(g_.v, d)));
     return resolve_material(sc_, base_, uv.x, uv.y, p_ + d);
   }
   double clearance(const glm::dvec2& pos) const override {
-    return region_clearance_m(sc_, base_, p_ + pos.x * x_ + pos.y * y_) * kMmPerMetre;
+    const glm::dvec3 d = pos.x * x_ + pos.y * y_;
+    const glm::vec2 uv = uv_ + glm::vec2(float(glm::dot(g_.u, d)), float(glm::dot(g_.v, d)));
+    return region_clearance_m(sc_, base_, p_ + d, uv.x, uv.y, metric_) * kMmPerMetre;
   }
 
  private:
@@ -43,6 +46,7 @@ class TangentPlaneRegions final : public LateralMaterials {
   glm::vec2 uv_;
   glm::dvec3 x_, y_;  // the frame's tangent axes per mm
   UvGradient g_;
+  UvMetric metric_;  // the texture coordinates' stretch along the plane (region_clearance_m)
 };
 
 // A surface material at a point: its reflectance texture's scale and its fluorophores'
