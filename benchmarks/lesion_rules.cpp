@@ -9,7 +9,7 @@
 // along the normal as the bench case counts (within 2 % or 3 combined standard errors). One wavelength stands for each band (450,
 // 560, 630 nm), the light's direction is taken as the normal's, and only reflected light is compared:
 // a guide to which rule to render, not a substitute for rendering it.
-//   usage: lesion_rules [--runs DIR] [--preset blood_spot|dysplasia] [--rings] [--unraised-runs]
+//   usage: lesion_rules [--runs DIR (default benchmarks/lesion_runs, the runs kept in git)] [--preset blood_spot|dysplasia] [--rings] [--unraised-runs]
 //   (--rings: every ring's Monte Carlo value, tolerance, rendered value and each rule's prediction;
 //   --unraised-runs: the runs were rendered before the darker shares, with the "shares unraised" rule)
 #include <cmath>
@@ -74,12 +74,17 @@ double inside_fraction(double px, double py, double qx, double qy, double a) {
 // count as the disc by an erfc of their distance to its edge, the darker material grown by sigma
 // (x > 0 in mm, x < 0 in units of L) or both blurred; the darker material's share (the lower diffuse
 // reflectance) raised to the power x (0: any share makes it all the darker material's); the power
-// mean of exponent x of the two profiles at the path's length, weighted by the unraised shares.
-enum class Kind { kShipped, kCap, kFullChord, kGeometricMean, kEndChordSplit, kPassage, kSoftDarker, kSoftBoth, kDarkerPower, kPowerMean };
+// mean of exponent x of the two profiles at the path's length, weighted by the unraised shares;
+// the bent chord: the path between the ends wanders sideways as a parabola whose middle lies a
+// normal deviate of x r off the chord (x r: the lateral spread of a diffusing path's middle, about
+// its depth r / (2 sqrt 2) in a half-space), the value the mean over the deviates of each bent
+// path's product of powers (its darker share raised to gamma).
+enum class Kind { kShipped, kCap, kFullChord, kGeometricMean, kEndChordSplit, kPassage, kSoftDarker, kSoftBoth, kDarkerPower, kPowerMean, kBentChord };
 struct Rule {
   const char* name;
   Kind kind;
   double x;  // kCap: the chord counts r / (1 + r / (x L)); kPassage: each passage is x L long (cap 2 L)
+  double gamma = 1;  // kBentChord, kSoftDarker, kSoftBoth: the darker share's power (darker_shares)
 };
 const Rule kRules[] = {{"shipped (2 L cap, darker ^0.8)", Kind::kShipped, 0},
                        {"shares unraised", Kind::kDarkerPower, 1},  {"cap 0.5 L", Kind::kCap, 0.5},
@@ -93,7 +98,12 @@ const Rule kRules[] = {{"shipped (2 L cap, darker ^0.8)", Kind::kShipped, 0},
                        {"darker share ^0.75", Kind::kDarkerPower, 0.75}, {"darker share ^0.85", Kind::kDarkerPower, 0.85}, {"darker share ^0.8", Kind::kDarkerPower, 0.8}, {"darker share ^0.7", Kind::kDarkerPower, 0.7}, {"darker share ^0.65", Kind::kDarkerPower, 0.65}, {"darker share ^0.5", Kind::kDarkerPower, 0.5},
                        {"darker share ^0.25", Kind::kDarkerPower, 0.25}, {"darker wins", Kind::kDarkerPower, 0},
                        {"power mean q = -0.5", Kind::kPowerMean, -0.5}, {"power mean q = -1", Kind::kPowerMean, -1},
-                       {"power mean q = -2", Kind::kPowerMean, -2}, {"power mean q = -3", Kind::kPowerMean, -3}};
+                       {"power mean q = -2", Kind::kPowerMean, -2}, {"power mean q = -3", Kind::kPowerMean, -3},
+                       {"bent 0.2 r", Kind::kBentChord, 0.2}, {"bent 0.35 r", Kind::kBentChord, 0.35},
+                       {"bent 0.5 r", Kind::kBentChord, 0.5}, {"bent 0.35 r, darker ^0.8", Kind::kBentChord, 0.35, 0.8},
+                       {"blurred 0.025 mm, ^0.8", Kind::kSoftBoth, 0.025, 0.8}, {"blurred 0.05 mm, ^0.8", Kind::kSoftBoth, 0.05, 0.8},
+                       {"blurred 0.05 mm, ^0.9", Kind::kSoftBoth, 0.05, 0.9}, {"blurred 0.25 L, ^0.8", Kind::kSoftBoth, -0.25, 0.8},
+                       {"blurred 0.25 L, ^0.9", Kind::kSoftBoth, -0.25, 0.9}, {"blurred 0.5 L, ^0.8", Kind::kSoftBoth, -0.5, 0.8}};
 constexpr int kNumRules = sizeof(kRules) / sizeof(kRules[0]);
 
 // A rule tried and not kept (docs/layered-tissue.md, "Regions and lateral transport"): the log ratio
@@ -149,6 +159,22 @@ double soft_fraction(double px, double py, double qx, double qy, double a, doubl
   return s / kSteps;
 }
 
+// Fraction of the path from p to q (mm, in the plane) inside the disc of radius a when its middle
+// lies `bend` mm to the left of the chord, the offset growing as 4 t (1 - t) along it.
+double bent_inside_fraction(double px, double py, double qx, double qy, double a, double bend) {
+  constexpr int kSteps = 32;
+  const double dx = qx - px, dy = qy - py, len = std::hypot(dx, dy);
+  if (!(len > 0)) return px * px + py * py < a * a ? 1.0 : 0.0;
+  const double nx = -dy / len, ny = dx / len;
+  int in = 0;
+  for (int i = 0; i < kSteps; ++i) {
+    const double t = (i + 0.5) / kSteps, o = 4 * t * (1 - t) * bend;
+    const double x = px + t * dx + o * nx, y = py + t * dy + o * ny;
+    in += x * x + y * y < a * a;
+  }
+  return double(in) / kSteps;
+}
+
 // The rules' values for light entering at (xi, yi) and leaving at (d, 0), r apart, profiles p[0]
 // (healthy) and p[1] (disc) at r.
 // sp[m]: the split of ln(p[1 - m] / p[m]) (split_log_ratio, the ends' parts with half the log ratio of
@@ -184,6 +210,21 @@ void rule_values(double d, double xi, double yi, double r, double a, double L, c
         v[k] = std::pow(p[1], out[1]) * std::pow(p[0], out[0]);
         break;
       }
+      case Kind::kBentChord: {  // eight equal-weight quantiles of the standard normal
+        constexpr double kZ[4] = {0.15731, 0.48878, 0.88715, 1.53412};
+        double sum = 0;
+        for (int n = 0; n < 8; ++n) {
+          const double z = n < 4 ? kZ[n] : -kZ[n - 4];
+          const double fb = bent_inside_fraction(d, 0, xi, yi, a, z * rule.x * r);
+          const double share = passage_share(fb, mi + mo, 2, L, cap);
+          const double shares[2] = {1 - share, share}, refl[2] = {disc_darker ? 1.0 : 0.0, disc_darker ? 0.0 : 1.0};
+          double out[2];
+          darker_shares(2, shares, refl, rule.gamma, out);
+          sum += std::pow(p[1], out[1]) * std::pow(p[0], out[0]);
+        }
+        v[k] = sum / 8;
+        break;
+      }
       case Kind::kSoftDarker:
       case Kind::kSoftBoth: {
         const double sigma = rule.x > 0 ? rule.x : -rule.x * L;
@@ -191,7 +232,10 @@ void rule_values(double d, double xi, double yi, double r, double a, double L, c
         const double ends = soft_member(std::hypot(xi, yi), a, sigma, grow) + soft_member(d, a, sigma, grow);
         const double fs = soft_fraction(d, 0, xi, yi, a, sigma, grow);
         const double share = (ends * L + cap * fs) / (2 * L + cap);
-        v[k] = std::pow(p[1], share) * std::pow(p[0], 1 - share);
+        const double shares[2] = {1 - share, share}, refl[2] = {disc_darker ? 1.0 : 0.0, disc_darker ? 0.0 : 1.0};
+        double out[2];
+        darker_shares(2, shares, refl, rule.gamma, out);
+        v[k] = std::pow(p[1], out[1]) * std::pow(p[0], out[0]);
         break;
       }
       case Kind::kEndChordSplit: {
@@ -249,7 +293,7 @@ void ring_integrals(const Preset& healthy, const Preset& disc, int wl, double a,
 }  // namespace
 
 int run(int argc, char** argv) {
-  std::string runs = "benchmarks/results.d/lesion_runs", preset = "blood_spot";
+  std::string runs = "benchmarks/lesion_runs", preset = "blood_spot";
   bool rings = false;
   int base = 0;  // the rule the runs were rendered with: each rule's prediction is the run's value plus its change
   for (int i = 1; i < argc; i += 2) {
