@@ -24,7 +24,7 @@ Material parse_regions(const JsonNode& n, MaterialContext& ctx) {
     if (auto m = r.find("mask")) {
       reg.texture = load_texture(*m, ctx);
       reg.threshold = r.number_or("threshold", 0.5, 0.0, 1.0);
-      reg.side_distance = side_distance_texels((*ctx.textures)[size_t(reg.texture)], float(reg.threshold));
+      reg.side_distance = side_distance_texels((*ctx.textures)[size_t(reg.texture)], reg.threshold);
     } else {
       if (r.has("threshold")) r.at("threshold").fail("a sphere region has no threshold");
       JsonNode sp = r.at("sphere");

@@ -217,7 +217,7 @@ TEST(LayeredVolume, MaskSideDistanceIsTheExactDistanceToTheOtherSide) {
   t.height = 17;
   Rng rng(3, 0);
   for (int i = 0; i < t.width * t.height; ++i) t.texels.push_back(float(rng.next_double() < 0.08 ? 0.9 : 0.1));
-  const std::vector<float> d = side_distance_texels(t, 0.5f);
+  const std::vector<float> d = side_distance_texels(t, 0.5);
   ASSERT_EQ(d.size(), t.texels.size());
   for (int y = 0; y < t.height; ++y)
     for (int x = 0; x < t.width; ++x) {
@@ -235,7 +235,7 @@ TEST(LayeredVolume, MaskSideDistanceIsTheExactDistanceToTheOtherSide) {
   // One side only: nothing to reach.
   Texture flat = t;
   std::fill(flat.texels.begin(), flat.texels.end(), 0.2f);
-  for (float v : side_distance_texels(flat, 0.5f)) EXPECT_TRUE(std::isinf(v));
+  for (float v : side_distance_texels(flat, 0.5)) EXPECT_TRUE(std::isinf(v));
 }
 
 // A texture mask's clearance along the plane: within it resolve_material does not change (in every
@@ -262,7 +262,7 @@ TEST(LayeredVolume, MaskClearanceBoundsWhereTheRegionEnds) {
   r.texture = 0;
   r.threshold = 0.5;
   r.material = 1;
-  r.side_distance = side_distance_texels(t, 0.5f);
+  r.side_distance = side_distance_texels(t, 0.5);
   m.regions.push_back(r);
   // u = x / 10 mm, v = y / 20 mm on the plane z = 0.
   const glm::dvec3 gu(100.0, 0, 0), gv(0, 50.0, 0);
@@ -293,6 +293,27 @@ TEST(LayeredVolume, MaskClearanceBoundsWhereTheRegionEnds) {
     const double c = region_clearance_m(sc, 2, glm::dvec3(0.0), float(ut / 128), float(vt / 128), iso);
     EXPECT_LE(c, want + 0.5 * texel_m) << ut << ", " << vt;
     EXPECT_GE(c, want - (1.5 * std::sqrt(2.0) + 0.75) * texel_m) << ut << ", " << vt;
+  }
+  // A threshold that float cannot hold (0.3): texels of 0.3f lie above it as resolve_material
+  // compares, so a patch of them is a region, bounded like any other.
+  Scene s3 = sc;
+  std::fill(s3.textures[0].texels.begin(), s3.textures[0].texels.end(), 0.1f);
+  for (int y = 60; y < 68; ++y)
+    for (int x = 60; x < 68; ++x) s3.textures[0].texels[size_t(y) * 128 + x] = 0.3f;
+  s3.materials[2].regions[0].threshold = 0.3;
+  s3.materials[2].regions[0].side_distance = side_distance_texels(s3.textures[0], 0.3);
+  ASSERT_EQ(resolve_material(s3, 2, 64.0f / 128, 64.0f / 128, glm::dvec3(0.0)), 1);
+  for (int i = 0; i < 200; ++i) {
+    const double ut = 40.0 + 48.0 * rng.next_double(), vt = 40.0 + 48.0 * rng.next_double();
+    const float u = float(ut / 128), v = float(vt / 128);
+    const double c = region_clearance_m(s3, 2, glm::dvec3(0.0), u, v, iso);
+    ASSERT_TRUE(std::isfinite(c)) << ut << ", " << vt;
+    const int here = resolve_material(s3, 2, u, v, glm::dvec3(0.0));
+    for (int k = 0; k < 16; ++k) {
+      const double a = 6.283185307179586 * k / 16.0;
+      const float uq = float((ut + 0.999 * c / texel_m * std::cos(a)) / 128), vq = float((vt + 0.999 * c / texel_m * std::sin(a)) / 128);
+      ASSERT_EQ(resolve_material(s3, 2, uq, vq, glm::dvec3(0.0)), here) << "point " << i << ", direction " << k;
+    }
   }
   EXPECT_TRUE(std::isinf(region_clearance_m(sc, 2, glm::dvec3(0.0), 0.3f, 0.3f, UvMetric{})));
   EXPECT_TRUE(std::isinf(region_clearance_m(sc, 0, glm::dvec3(0.0), 0.3f, 0.3f, iso)));

@@ -101,11 +101,18 @@ std::vector<double> squared_distance_to(const Texture& t, const std::vector<char
 
 }  // namespace
 
-std::vector<float> side_distance_texels(const Texture& t, float threshold) {
+std::vector<float> side_distance_texels(const Texture& t, double threshold) {
   const size_t n = t.texels.size();
-  std::vector<char> above(n), below(n);
-  for (size_t i = 0; i < n; ++i) below[i] = !(above[i] = t.texels[i] > threshold);
-  const std::vector<double> to_above = squared_distance_to(t, above), to_below = squared_distance_to(t, below);
+  // may_be_above / may_be_below: the texels a point's side can come from (both within rounding).
+  const double eps = 4.0 * std::numeric_limits<float>::epsilon() * std::max(1.0, std::abs(threshold));
+  std::vector<char> above(n), may_be_above(n), may_be_below(n);
+  for (size_t i = 0; i < n; ++i) {
+    const double v = t.texels[i];
+    above[i] = v > threshold;
+    may_be_above[i] = v > threshold - eps;
+    may_be_below[i] = v <= threshold + eps;
+  }
+  const std::vector<double> to_above = squared_distance_to(t, may_be_above), to_below = squared_distance_to(t, may_be_below);
   std::vector<float> out(n);
   for (size_t i = 0; i < n; ++i) out[i] = float(std::sqrt(above[i] ? to_below[i] : to_above[i]));
   return out;
