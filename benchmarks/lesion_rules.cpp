@@ -78,8 +78,10 @@ double inside_fraction(double px, double py, double qx, double qy, double a) {
 // the bent chord: the path between the ends wanders sideways as a parabola whose middle lies a
 // normal deviate of x r off the chord (x r: the lateral spread of a diffusing path's middle, about
 // its depth r / (2 sqrt 2) in a half-space), the value the mean over the deviates of each bent
-// path's product of powers (its darker share raised to gamma).
-enum class Kind { kShipped, kCap, kFullChord, kGeometricMean, kEndChordSplit, kPassage, kSoftDarker, kSoftBoth, kDarkerPower, kPowerMean, kBentChord };
+// path's product of powers (its darker share raised to gamma); or the bent paths' mean share taken
+// first and the product of powers of that (the first-order perturbation of diffuse light by an
+// absorber, where the log of the change is linear in the absorption along the light's paths).
+enum class Kind { kShipped, kCap, kFullChord, kGeometricMean, kEndChordSplit, kPassage, kSoftDarker, kSoftBoth, kDarkerPower, kPowerMean, kBentChord, kBentShares };
 struct Rule {
   const char* name;
   Kind kind;
@@ -103,7 +105,10 @@ const Rule kRules[] = {{"shipped (2 L cap, darker ^0.8)", Kind::kShipped, 0},
                        {"bent 0.5 r", Kind::kBentChord, 0.5}, {"bent 0.35 r, darker ^0.8", Kind::kBentChord, 0.35, 0.8},
                        {"blurred 0.025 mm, ^0.8", Kind::kSoftBoth, 0.025, 0.8}, {"blurred 0.05 mm, ^0.8", Kind::kSoftBoth, 0.05, 0.8},
                        {"blurred 0.05 mm, ^0.9", Kind::kSoftBoth, 0.05, 0.9}, {"blurred 0.25 L, ^0.8", Kind::kSoftBoth, -0.25, 0.8},
-                       {"blurred 0.25 L, ^0.9", Kind::kSoftBoth, -0.25, 0.9}, {"blurred 0.5 L, ^0.8", Kind::kSoftBoth, -0.5, 0.8}};
+                       {"blurred 0.25 L, ^0.9", Kind::kSoftBoth, -0.25, 0.9}, {"blurred 0.5 L, ^0.8", Kind::kSoftBoth, -0.5, 0.8},
+                       {"bent shares 0.2 r", Kind::kBentShares, 0.2}, {"bent shares 0.35 r", Kind::kBentShares, 0.35},
+                       {"bent shares 0.5 r", Kind::kBentShares, 0.5}, {"bent shares 0.2 r, ^0.8", Kind::kBentShares, 0.2, 0.8},
+                       {"bent shares 0.35 r, ^0.8", Kind::kBentShares, 0.35, 0.8}, {"bent shares 0.35 r, ^0.9", Kind::kBentShares, 0.35, 0.9}};
 constexpr int kNumRules = sizeof(kRules) / sizeof(kRules[0]);
 
 // A rule tried and not kept (docs/layered-tissue.md, "Regions and lateral transport"): the log ratio
@@ -210,19 +215,23 @@ void rule_values(double d, double xi, double yi, double r, double a, double L, c
         v[k] = std::pow(p[1], out[1]) * std::pow(p[0], out[0]);
         break;
       }
-      case Kind::kBentChord: {  // eight equal-weight quantiles of the standard normal
+      case Kind::kBentChord:
+      case Kind::kBentShares: {  // eight equal-weight quantiles of the standard normal
         constexpr double kZ[4] = {0.15731, 0.48878, 0.88715, 1.53412};
+        const double refl[2] = {disc_darker ? 1.0 : 0.0, disc_darker ? 0.0 : 1.0};
+        auto value = [&](double share) {
+          const double shares[2] = {1 - share, share};
+          double out[2];
+          darker_shares(2, shares, refl, rule.gamma, out);
+          return std::pow(p[1], out[1]) * std::pow(p[0], out[0]);
+        };
         double sum = 0;
         for (int n = 0; n < 8; ++n) {
           const double z = n < 4 ? kZ[n] : -kZ[n - 4];
-          const double fb = bent_inside_fraction(d, 0, xi, yi, a, z * rule.x * r);
-          const double share = passage_share(fb, mi + mo, 2, L, cap);
-          const double shares[2] = {1 - share, share}, refl[2] = {disc_darker ? 1.0 : 0.0, disc_darker ? 0.0 : 1.0};
-          double out[2];
-          darker_shares(2, shares, refl, rule.gamma, out);
-          sum += std::pow(p[1], out[1]) * std::pow(p[0], out[0]);
+          const double share = passage_share(bent_inside_fraction(d, 0, xi, yi, a, z * rule.x * r), mi + mo, 2, L, cap);
+          sum += rule.kind == Kind::kBentChord ? value(share) : share;
         }
-        v[k] = sum / 8;
+        v[k] = rule.kind == Kind::kBentChord ? sum / 8 : value(sum / 8);
         break;
       }
       case Kind::kSoftDarker:
