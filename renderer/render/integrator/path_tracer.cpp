@@ -29,17 +29,22 @@ class TangentPlaneRegions final : public LateralMaterials {
       : sc_(sc), base_(base), p_(sp.p), uv_(sp.uv), x_(f.x / kMmPerMetre), y_(f.y / kMmPerMetre), g_(g),
         metric_{glm::dot(g.u, g.u), glm::dot(g.u, g.v), glm::dot(g.v, g.v)} {}
   int material_at(const glm::dvec2& pos) const override {
-    const glm::dvec3 d = pos.x * x_ + pos.y * y_;
-    const glm::vec2 uv = uv_ + glm::vec2(float(glm::dot(g_.u, d)), float(glm::dot(g_.v, d)));
+    const glm::dvec3 d = offset(pos);
+    const glm::vec2 uv = uv_at(d);
     return resolve_material(sc_, base_, uv.x, uv.y, p_ + d);
   }
   double clearance(const glm::dvec2& pos) const override {
-    const glm::dvec3 d = pos.x * x_ + pos.y * y_;
-    const glm::vec2 uv = uv_ + glm::vec2(float(glm::dot(g_.u, d)), float(glm::dot(g_.v, d)));
+    const glm::dvec3 d = offset(pos);
+    const glm::vec2 uv = uv_at(d);
     return region_clearance_m(sc_, base_, p_ + d, uv.x, uv.y, metric_) * kMmPerMetre;
   }
 
  private:
+  // The plane's point at lateral position pos (mm) as an offset from the vertex (m), and its
+  // texture coordinates extrapolated along the plane.
+  glm::dvec3 offset(const glm::dvec2& pos) const { return pos.x * x_ + pos.y * y_; }
+  glm::vec2 uv_at(const glm::dvec3& d) const { return uv_ + glm::vec2(float(glm::dot(g_.u, d)), float(glm::dot(g_.v, d))); }
+
   const Scene& sc_;
   int base_;
   glm::dvec3 p_;
